@@ -1,0 +1,1 @@
+//! Subcommand argument types and their glue to the library, one file per subcommand.

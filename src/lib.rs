@@ -1,0 +1,8 @@
+//! squeal: railway wheel squeal toolkit.
+//!
+//! Coordinates (used everywhere): x along the track (rolling direction), y lateral (towards the
+//! field side), z vertical up; the wheel axis is y. Units are SI (m, kg, s, N, Pa) except where a
+//! name says otherwise (e.g. `_mm` in profile tables).
+
+pub mod error;
+pub use error::{Error, Result};
