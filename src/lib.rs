@@ -6,4 +6,6 @@
 
 pub mod error;
 pub mod geometry;
+pub mod input;
+pub mod mesh;
 pub use error::{Error, Result};

@@ -4,3 +4,4 @@
 pub mod curve2d;
 pub mod rail54e1;
 pub mod s1002;
+pub mod wheel;

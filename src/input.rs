@@ -1,0 +1,70 @@
+//! Reading JSON input files with errors that name the file and the field.
+
+use std::path::Path;
+
+use serde::de::DeserializeOwned;
+
+use crate::{Error, Result};
+
+/// Parse JSON text; `source_name` (a path or "embedded default") is used in error messages.
+/// Unknown, missing or mistyped fields are reported with their full path (e.g. `web.thickness_at_rim_mm`).
+pub fn parse_json<T: DeserializeOwned>(text: &str, source_name: &str) -> Result<T> {
+    let de = &mut serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        let field = if path.is_empty() || path == "." {
+            "(document)".to_string()
+        } else {
+            path
+        };
+        Error::input(source_name, field, format!("{inner}"))
+    })
+}
+
+/// Read and parse a JSON file.
+pub fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    parse_json(&text, &path.display().to_string())
+}
+
+/// Range checks that produce [`Error::Input`] naming the file and field.
+pub struct Checker<'a> {
+    /// File (or source) name used in messages.
+    pub source_name: &'a str,
+}
+
+impl Checker<'_> {
+    /// `value` must be finite and strictly positive.
+    pub fn positive(&self, field: &str, value: f64) -> Result<()> {
+        if value.is_finite() && value > 0.0 {
+            Ok(())
+        } else {
+            Err(Error::input(
+                self.source_name,
+                field,
+                format!("must be a finite number > 0, got {value}"),
+            ))
+        }
+    }
+    /// `value` must lie in `[lo, hi]`.
+    pub fn within(&self, field: &str, value: f64, lo: f64, hi: f64) -> Result<()> {
+        if value.is_finite() && value >= lo && value <= hi {
+            Ok(())
+        } else {
+            Err(Error::input(
+                self.source_name,
+                field,
+                format!("must be in [{lo}, {hi}], got {value}"),
+            ))
+        }
+    }
+    /// A custom failed condition.
+    pub fn require(&self, ok: bool, field: &str, message: impl FnOnce() -> String) -> Result<()> {
+        if ok {
+            Ok(())
+        } else {
+            Err(Error::input(self.source_name, field, message()))
+        }
+    }
+}

@@ -1,0 +1,152 @@
+//! Geometry of the 8-node hexahedron (VTK node order: 0-3 counter-clockwise on the bottom face
+//! seen from the top, 4-7 above them).
+
+/// A point in space.
+pub type P3 = [f64; 3];
+
+/// Faces with outward normals (right-hand rule) for a positively oriented hexahedron.
+pub const FACES: [[usize; 4]; 6] = [
+    [0, 3, 2, 1],
+    [4, 5, 6, 7],
+    [0, 1, 5, 4],
+    [1, 2, 6, 5],
+    [2, 3, 7, 6],
+    [3, 0, 4, 7],
+];
+
+/// The three edge neighbours of each corner, ordered so that their edge vectors form a
+/// right-handed triple for a positively oriented element.
+pub const CORNER_NEIGHBOURS: [[usize; 3]; 8] = [
+    [1, 3, 4],
+    [2, 0, 5],
+    [3, 1, 6],
+    [0, 2, 7],
+    [7, 5, 0],
+    [4, 6, 1],
+    [5, 7, 2],
+    [6, 4, 3],
+];
+
+/// The 12 edges.
+pub const EDGES: [[usize; 2]; 12] = [
+    [0, 1],
+    [1, 2],
+    [2, 3],
+    [3, 0],
+    [4, 5],
+    [5, 6],
+    [6, 7],
+    [7, 4],
+    [0, 4],
+    [1, 5],
+    [2, 6],
+    [3, 7],
+];
+
+fn sub(a: P3, b: P3) -> P3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn cross(a: P3, b: P3) -> P3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn dot(a: P3, b: P3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+/// Euclidean norm.
+pub fn norm3(a: P3) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// Corner Jacobian determinants (triple products of the three corner edges); all positive for
+/// a valid, positively oriented element.
+pub fn corner_jacobians(x: &[P3; 8]) -> [f64; 8] {
+    let mut out = [0.0; 8];
+    for (c, nb) in CORNER_NEIGHBOURS.iter().enumerate() {
+        let e1 = sub(x[nb[0]], x[c]);
+        let e2 = sub(x[nb[1]], x[c]);
+        let e3 = sub(x[nb[2]], x[c]);
+        out[c] = dot(e1, cross(e2, e3));
+    }
+    out
+}
+
+/// Smallest scaled corner Jacobian: triple product over the product of the edge lengths
+/// (1 for a perfect cube, <= 0 for an inverted corner).
+pub fn min_scaled_jacobian(x: &[P3; 8]) -> f64 {
+    let mut worst = f64::INFINITY;
+    for (c, nb) in CORNER_NEIGHBOURS.iter().enumerate() {
+        let e1 = sub(x[nb[0]], x[c]);
+        let e2 = sub(x[nb[1]], x[c]);
+        let e3 = sub(x[nb[2]], x[c]);
+        let scale = (norm3(e1) * norm3(e2) * norm3(e3)).max(1e-300);
+        worst = worst.min(dot(e1, cross(e2, e3)) / scale);
+    }
+    worst
+}
+
+/// Volume by splitting the (possibly non-planar) hexahedron into the 6 tetrahedra around the
+/// 0-6 diagonal; exact for trilinear elements with planar faces and second-order accurate
+/// otherwise.
+pub fn volume(x: &[P3; 8]) -> f64 {
+    const TETS: [[usize; 4]; 6] = [
+        [0, 1, 2, 6],
+        [0, 2, 3, 6],
+        [0, 3, 7, 6],
+        [0, 7, 4, 6],
+        [0, 4, 5, 6],
+        [0, 5, 1, 6],
+    ];
+    let mut v = 0.0;
+    for t in TETS {
+        v += dot(
+            sub(x[t[1]], x[t[0]]),
+            cross(sub(x[t[2]], x[t[0]]), sub(x[t[3]], x[t[0]])),
+        ) / 6.0;
+    }
+    v
+}
+
+/// Area of a (possibly warped) quad face: half the norm of the cross product of its diagonals.
+pub fn face_area(a: P3, b: P3, c: P3, d: P3) -> f64 {
+    0.5 * norm3(cross(sub(c, a), sub(d, b)))
+}
+
+/// Outward normal (not normalised; length = face area) of a face given in outward order.
+pub fn face_normal(a: P3, b: P3, c: P3, d: P3) -> P3 {
+    let n = cross(sub(c, a), sub(d, b));
+    [0.5 * n[0], 0.5 * n[1], 0.5 * n[2]]
+}
+
+/// Characteristic length for the explicit time step, `L = V / A_max` (volume over the largest
+/// face area), the choice of LS-DYNA's default solid time-step estimate.
+pub fn characteristic_length(x: &[P3; 8]) -> f64 {
+    let mut a_max: f64 = 0.0;
+    for f in FACES {
+        a_max = a_max.max(face_area(x[f[0]], x[f[1]], x[f[2]], x[f[3]]));
+    }
+    volume(x) / a_max.max(1e-300)
+}
+
+/// Shortest and longest edge.
+pub fn edge_range(x: &[P3; 8]) -> (f64, f64) {
+    let mut lo = f64::INFINITY;
+    let mut hi: f64 = 0.0;
+    for e in EDGES {
+        let l = norm3(sub(x[e[1]], x[e[0]]));
+        lo = lo.min(l);
+        hi = hi.max(l);
+    }
+    (lo, hi)
+}
+
+/// Reorder an element whose corner Jacobians are all negative (mirror-image numbering) so that
+/// it becomes positively oriented: swap the bottom and top faces.
+pub fn flip(conn: [usize; 8]) -> [usize; 8] {
+    [
+        conn[4], conn[5], conn[6], conn[7], conn[0], conn[1], conn[2], conn[3],
+    ]
+}

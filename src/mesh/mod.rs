@@ -1,0 +1,257 @@
+//! Hexahedral meshes: the `Mesh` type (nodes, 8-node hexahedra, materials, named node sets,
+//! named surfaces, tied interfaces), generators (revolve, extrude, wheel, track), quality
+//! checks and file writers/readers.
+
+pub mod distribute;
+pub mod hex;
+pub mod quality;
+pub mod section;
+pub mod tie;
+pub mod wheel;
+
+use std::collections::{BTreeMap, HashMap};
+
+pub use hex::P3;
+pub use quality::QualityReport;
+pub use tie::TiedInterface;
+
+/// Material ids used by the generators.
+pub mod material {
+    /// Wheel body (rim, web, hub) steel.
+    pub const WHEEL: u32 = 1;
+    /// Axle steel.
+    pub const AXLE: u32 = 2;
+    /// Fine tread band of the wheel (same steel; separate id so it can be shown and tied).
+    pub const TREAD_BAND: u32 = 3;
+    /// Rail steel.
+    pub const RAIL: u32 = 4;
+    /// Concrete sleeper.
+    pub const SLEEPER: u32 = 5;
+}
+
+/// A hexahedral mesh.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    /// Node coordinates (m).
+    pub nodes: Vec<P3>,
+    /// 8-node hexahedra (VTK order), positively oriented.
+    pub elements: Vec<[usize; 8]>,
+    /// Material id per element.
+    pub material: Vec<u32>,
+    /// Named node sets (sorted, unique node ids).
+    pub node_sets: BTreeMap<String, Vec<usize>>,
+    /// Named surfaces: quad faces with node order giving the outward normal (right-hand rule).
+    pub surfaces: BTreeMap<String, Vec<[usize; 4]>>,
+    /// Tied interfaces between non-matching parts.
+    pub ties: Vec<TiedInterface>,
+}
+
+impl Mesh {
+    /// Number of nodes.
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+    /// Number of elements.
+    pub fn element_count(&self) -> usize {
+        self.elements.len()
+    }
+
+    /// Coordinates of an element's nodes.
+    pub fn element_coords(&self, e: usize) -> [P3; 8] {
+        let c = &self.elements[e];
+        std::array::from_fn(|k| self.nodes[c[k]])
+    }
+
+    /// Node set by name.
+    pub fn node_set(&self, name: &str) -> Option<&[usize]> {
+        self.node_sets.get(name).map(|v| v.as_slice())
+    }
+
+    /// Insert (or extend) a node set.
+    pub fn add_node_set(&mut self, name: &str, ids: impl IntoIterator<Item = usize>) {
+        let list = self.node_sets.entry(name.to_string()).or_default();
+        list.extend(ids);
+        list.sort_unstable();
+        list.dedup();
+    }
+
+    /// Append another mesh (its node ids are shifted; sets with equal names are merged).
+    pub fn append(&mut self, other: Mesh) {
+        let offset = self.nodes.len();
+        self.nodes.extend(other.nodes);
+        self.elements
+            .extend(other.elements.into_iter().map(|c| c.map(|n| n + offset)));
+        self.material.extend(other.material);
+        for (name, ids) in other.node_sets {
+            self.add_node_set(&name, ids.into_iter().map(|n| n + offset));
+        }
+        for (name, faces) in other.surfaces {
+            self.surfaces
+                .entry(name)
+                .or_default()
+                .extend(faces.into_iter().map(|f| f.map(|n| n + offset)));
+        }
+        for tie in other.ties {
+            self.ties.push(tie.shifted(offset));
+        }
+    }
+
+    /// Make every element positively oriented (elements generated as mirror images are
+    /// renumbered); elements with mixed-sign corners are left as they are for the quality check
+    /// to report.
+    pub fn orient_elements(&mut self) {
+        for e in 0..self.elements.len() {
+            let jac = hex::corner_jacobians(&self.element_coords(e));
+            if jac.iter().all(|&j| j < 0.0) {
+                self.elements[e] = hex::flip(self.elements[e]);
+            }
+        }
+    }
+
+    /// Fuse nodes closer than `tolerance` (m), renumbering elements, sets and surfaces.
+    /// Returns the map old id -> new id.
+    pub fn merge_coincident_nodes(&mut self, tolerance: f64) -> Vec<usize> {
+        let cell = tolerance * 16.0;
+        let key = |p: &P3| {
+            (
+                (p[0] / cell).floor() as i64,
+                (p[1] / cell).floor() as i64,
+                (p[2] / cell).floor() as i64,
+            )
+        };
+        let mut buckets: HashMap<(i64, i64, i64), Vec<usize>> =
+            HashMap::with_capacity(self.nodes.len());
+        let mut new_id = vec![usize::MAX; self.nodes.len()];
+        let mut kept: Vec<P3> = Vec::with_capacity(self.nodes.len());
+        for (i, p) in self.nodes.iter().enumerate() {
+            let (bx, by, bz) = key(p);
+            let mut found = None;
+            'search: for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        if let Some(list) = buckets.get(&(bx + dx, by + dy, bz + dz)) {
+                            for &j in list {
+                                let q = kept[j];
+                                if (q[0] - p[0]).abs() <= tolerance
+                                    && (q[1] - p[1]).abs() <= tolerance
+                                    && (q[2] - p[2]).abs() <= tolerance
+                                {
+                                    found = Some(j);
+                                    break 'search;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            new_id[i] = match found {
+                Some(j) => j,
+                None => {
+                    kept.push(*p);
+                    buckets
+                        .entry((bx, by, bz))
+                        .or_default()
+                        .push(kept.len() - 1);
+                    kept.len() - 1
+                }
+            };
+        }
+        self.nodes = kept;
+        self.renumber(&new_id);
+        new_id
+    }
+
+    fn renumber(&mut self, new_id: &[usize]) {
+        for c in &mut self.elements {
+            *c = c.map(|n| new_id[n]);
+        }
+        for ids in self.node_sets.values_mut() {
+            for n in ids.iter_mut() {
+                *n = new_id[*n];
+            }
+            ids.sort_unstable();
+            ids.dedup();
+        }
+        for faces in self.surfaces.values_mut() {
+            for f in faces.iter_mut() {
+                *f = f.map(|n| new_id[n]);
+            }
+        }
+        for tie in &mut self.ties {
+            tie.renumber(new_id);
+        }
+    }
+
+    /// Boundary faces (faces used by exactly one element), in outward order, with their owner.
+    pub fn boundary_faces(&self) -> Vec<([usize; 4], usize)> {
+        let mut count: HashMap<[usize; 4], (u32, [usize; 4], usize)> =
+            HashMap::with_capacity(self.elements.len() * 3);
+        for (e, conn) in self.elements.iter().enumerate() {
+            for f in hex::FACES {
+                let face = f.map(|k| conn[k]);
+                let mut sorted = face;
+                sorted.sort_unstable();
+                count
+                    .entry(sorted)
+                    .and_modify(|v| v.0 += 1)
+                    .or_insert((1, face, e));
+            }
+        }
+        let mut out: Vec<([usize; 4], usize)> = count
+            .into_values()
+            .filter(|v| v.0 == 1)
+            .map(|v| (v.1, v.2))
+            .collect();
+        out.sort_unstable_by_key(|v| (v.1, v.0));
+        out
+    }
+
+    /// Define surface `name` as the boundary faces whose four nodes all belong to node set
+    /// `set` (and, when given, whose owner element has material `only_material`).
+    pub fn surface_from_node_set(
+        &mut self,
+        name: &str,
+        set: &str,
+        only_material: Option<u32>,
+    ) -> usize {
+        let Some(ids) = self.node_sets.get(set) else {
+            return 0;
+        };
+        let mut member = vec![false; self.nodes.len()];
+        for &n in ids {
+            member[n] = true;
+        }
+        let faces: Vec<[usize; 4]> = self
+            .boundary_faces()
+            .into_iter()
+            .filter(|(f, e)| {
+                f.iter().all(|&n| member[n]) && only_material.is_none_or(|m| self.material[*e] == m)
+            })
+            .map(|(f, _)| f)
+            .collect();
+        let count = faces.len();
+        self.surfaces.insert(name.to_string(), faces);
+        count
+    }
+
+    /// Total volume (m^3).
+    pub fn volume(&self) -> f64 {
+        (0..self.elements.len())
+            .map(|e| hex::volume(&self.element_coords(e)))
+            .sum()
+    }
+
+    /// Volume per material id.
+    pub fn volume_by_material(&self) -> BTreeMap<u32, f64> {
+        let mut out = BTreeMap::new();
+        for e in 0..self.elements.len() {
+            *out.entry(self.material[e]).or_insert(0.0) += hex::volume(&self.element_coords(e));
+        }
+        out
+    }
+
+    /// Quality report (see [`QualityReport`]).
+    pub fn quality(&self, wave_speed_m_per_s: f64) -> QualityReport {
+        QualityReport::of(self, wave_speed_m_per_s)
+    }
+}
