@@ -8,4 +8,5 @@ pub mod error;
 pub mod geometry;
 pub mod input;
 pub mod mesh;
+pub mod scenario;
 pub use error::{Error, Result};

@@ -5,8 +5,10 @@
 pub mod distribute;
 pub mod hex;
 pub mod quality;
+pub mod rail;
 pub mod section;
 pub mod tie;
+pub mod track;
 pub mod wheel;
 
 use std::collections::{BTreeMap, HashMap};

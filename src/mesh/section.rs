@@ -306,8 +306,10 @@ pub struct OGrid {
     pub core: [P2; 4],
     /// Node fractions along each side (0..1, both ends included).
     pub side_fractions: [Vec<f64>; 4],
-    /// Ring rows as fractions of the way from the outline (0) to the core (1), both included.
-    pub ring_fractions: Vec<f64>,
+    /// Ring rows, per side, as fractions of the way from the outline (0) to the core (1), both
+    /// included; all four lists have the same length. Different sides may grade differently
+    /// (fine rows only under a running surface).
+    pub ring_fractions: [Vec<f64>; 4],
 }
 
 /// Node indices of a meshed O-grid.
@@ -342,7 +344,7 @@ impl OGrid {
         part: u32,
         skip_ring_cell: impl Fn(usize, usize, usize) -> bool,
     ) -> OGridNodes {
-        let rows = self.ring_fractions.len();
+        let rows = self.ring_fractions[0].len();
         let mut ring: Vec<Vec<usize>> = Vec::new();
         let mut side_start = [0usize; 4];
         let mut cell_owner: Vec<(usize, usize)> = Vec::new();
@@ -350,8 +352,7 @@ impl OGrid {
             side_start[side] = ring.len();
             let fr = &self.side_fractions[side];
             for (idx, &t) in fr.iter().enumerate().take(fr.len() - 1) {
-                let column: Vec<usize> = self
-                    .ring_fractions
+                let column: Vec<usize> = self.ring_fractions[side]
                     .iter()
                     .map(|&s| mesh.add_node(self.point(side, t, s)))
                     .collect();

@@ -203,7 +203,9 @@ pub fn mesh_section(spec: &WheelSpec, band: Option<&TreadBandSpec>) -> WheelSect
             distribute::uniform(0.0, 1.0, n_flange_bottom),
             distribute::uniform(0.0, 1.0, n_rows),
         ],
-        ring_fractions: distribute::uniform(0.0, 1.0, ((10.0 / h).round() as usize).max(1)),
+        ring_fractions: std::array::from_fn(|_| {
+            distribute::uniform(0.0, 1.0, ((10.0 / h).round() as usize).max(1))
+        }),
     };
     let og = flange.mesh(&mut body, material::WHEEL, |_, _, _| false);
     // Contact-capable flange surface: side 2 (face, tip, back arc).

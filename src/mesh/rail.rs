@@ -1,0 +1,238 @@
+//! Quad mesh of the 54E1 rail section (section coordinates y, z in mm, crown top at the origin,
+//! upright; the 1:40 inclination is applied by the track placement).
+//!
+//! Blocks: the head is an O-grid (its outline is smooth all round, so a ring of quads around a
+//! core rectangle avoids degenerate corners), graded towards the running surface; the web is a
+//! Coons patch; the foot is column-mapped between its bottom and top outlines (both graphs of y,
+//! fillets included). The web-foot junction is a parabola that meets the R16 fillets at right
+//! angles.
+
+use super::distribute;
+use super::section::{coons_patch, geometric_fractions, OGrid, Polyline, SectionMesh};
+use crate::geometry::curve2d::{sample_chain, Segment, P2};
+use crate::geometry::rail54e1;
+
+/// Rail section mesh settings (mm).
+#[derive(Clone, Copy, Debug)]
+pub struct RailSectionSizes {
+    /// Element size on the running surface (crown) and in the outer rows of the head.
+    pub running_surface_mm: f64,
+    /// Element size in the web and foot.
+    pub body_mm: f64,
+}
+
+/// Height of the straight head-web junction (mm), on the R22 fillet arc.
+const HEAD_JUNCTION_Z_MM: f64 = -52.0;
+/// Angle below the horizontal, on the R16 web-foot fillet, of the web-foot junction point.
+const FOOT_JUNCTION_ANGLE_DEG: f64 = 30.0;
+
+fn mirror(p: P2) -> P2 {
+    [-p[0], p[1]]
+}
+
+fn reversed(p: &Polyline, s0: f64, s1: f64, mirror_it: bool) -> Polyline {
+    let part = p.slice(s0, s1);
+    let n = 2000;
+    let mut pts: Vec<P2> = (0..=n)
+        .map(|i| part.at_fraction(1.0 - i as f64 / n as f64))
+        .collect();
+    if mirror_it {
+        pts.iter_mut().for_each(|q| *q = mirror(*q));
+    }
+    Polyline::new(pts)
+}
+
+fn mirrored(p: &Polyline) -> Polyline {
+    let n = 2000;
+    Polyline::new(
+        (0..=n)
+            .map(|i| mirror(p.at_fraction(i as f64 / n as f64)))
+            .collect(),
+    )
+}
+
+/// Build the rail section mesh. Tags: `running_surface` (crown and gauge-corner arcs),
+/// `foot_bottom` (bottom face of the foot).
+pub fn rail_section(sizes: RailSectionSizes) -> SectionMesh {
+    let segs = rail54e1::left_half_segments();
+    let chain = Polyline::new(sample_chain(&segs, 0.01));
+    let arc_mid = |seg: &Segment| seg.point_at(0.5);
+    // Key points on the left half (indices follow rail54e1::left_half_segments).
+    // O-grid anchor at the middle of the R13 gauge-corner arc: the head outline's "corner", so
+    // the ring lines fan out diagonally there instead of running along the outline.
+    let p_side_top = arc_mid(&segs[2]);
+    let p_head_corner = arc_mid(&segs[4]);
+    let head_junction = {
+        if let Segment::Arc { centre, radius, .. } = segs[7] {
+            let dz = HEAD_JUNCTION_Z_MM - centre[1];
+            [
+                centre[0] + (radius * radius - dz * dz).sqrt(),
+                HEAD_JUNCTION_Z_MM,
+            ]
+        } else {
+            unreachable!("segment 7 is the R22 arc")
+        }
+    };
+    let foot_junction = {
+        if let Segment::Arc { centre, radius, .. } = segs[9] {
+            let a = -FOOT_JUNCTION_ANGLE_DEG.to_radians();
+            [centre[0] + radius * a.cos(), centre[1] + radius * a.sin()]
+        } else {
+            unreachable!("segment 9 is the R16 arc")
+        }
+    };
+    let s_side_top = chain.length_at_nearest(p_side_top);
+    let s_head_corner = chain.length_at_nearest(p_head_corner);
+    let s_head_junction = chain.length_at_nearest(head_junction);
+    let s_foot_junction = chain.length_at_nearest(foot_junction);
+    let s_edge_top = chain.length_at_nearest(segs[14].start());
+    let s_edge_bottom = chain.length_at_nearest(segs[14].end());
+
+    let h_rs = sizes.running_surface_mm;
+    let h_body = sizes.body_mm.max(h_rs);
+    let mut mesh = SectionMesh::new(1e-7);
+
+    // ---- Head O-grid.
+    let crown_left = chain.slice(0.0, s_side_top);
+    let side2 = Polyline::join(&[reversed(&chain, 0.0, s_side_top, true), crown_left]);
+    let side3 = chain.slice(s_side_top, s_head_corner);
+    let left_under = chain.slice(s_head_corner, s_head_junction);
+    let junction = Polyline::segment(head_junction, mirror(head_junction));
+    let right_under = reversed(&chain, s_head_corner, s_head_junction, true);
+    let side0 = Polyline::join(&[left_under.clone(), junction.clone(), right_under]);
+    let side1 = reversed(&chain, s_side_top, s_head_corner, true);
+    let n2 = ((side2.length() / h_rs).ceil() as usize).max(4);
+    let mut n_junction = ((junction.length() / h_body).round() as usize).max(2);
+    if (n2 - n_junction) % 2 == 1 {
+        n_junction += 1;
+    }
+    let n_under = ((n2 - n_junction.min(n2 - 2)) / 2).max(1);
+    let n2 = 2 * n_under + n_junction;
+    let n13 = ((side3.length() / (1.5 * h_rs)).ceil() as usize).max(1);
+    let ring_depth_mm = 14.0;
+    let ratio = 1.25f64;
+    let mut rows = 1usize;
+    while rows < 40 && ring_depth_mm * geometric_fractions(rows, ratio)[1] > h_rs {
+        rows += 1;
+    }
+    let len0 = side0.length();
+    let b0 = left_under.length() / len0;
+    let b1 = (left_under.length() + junction.length()) / len0;
+    let mut f0 = Vec::new();
+    for i in 0..=n_under {
+        f0.push(b0 * i as f64 / n_under as f64);
+    }
+    for i in 1..=n_junction {
+        f0.push(b0 + (b1 - b0) * i as f64 / n_junction as f64);
+    }
+    for i in 1..=n_under {
+        f0.push(b1 + (1.0 - b1) * i as f64 / n_under as f64);
+    }
+    let head = OGrid {
+        sides: [side0, side1, side2, side3],
+        core: [[-20.0, -28.0], [20.0, -28.0], [20.0, -14.0], [-20.0, -14.0]],
+        side_fractions: [
+            f0,
+            distribute::uniform(0.0, 1.0, n13),
+            distribute::uniform(0.0, 1.0, n2),
+            distribute::uniform(0.0, 1.0, n13),
+        ],
+        // Graded rows only under the running surface (side 2); uniform rows elsewhere keep the
+        // underside elements from becoming the smallest of the model.
+        ring_fractions: [
+            distribute::uniform(0.0, 1.0, rows),
+            distribute::uniform(0.0, 1.0, rows),
+            geometric_fractions(rows, ratio),
+            distribute::uniform(0.0, 1.0, rows),
+        ],
+    };
+    let og = head.mesh(&mut mesh, RAIL_PART, |_, _, _| false);
+    let a2 = og.side_start[2];
+    let a3 = og.side_start[3];
+    // Running surface: crown, R80 and R13 arcs plus the side faces (gauge faces).
+    let (a1, a0_end) = (og.side_start[1], og.ring.len());
+    mesh.tag("running_surface", (a1..a0_end).map(|i| og.ring[i][0]));
+    let _ = (a2, a3);
+    let junction_nodes: Vec<P2> = (0..=n_junction)
+        .map(|i| og.ring[og.side_start[0] + n_under + i][0])
+        .map(|id| mesh.nodes[id])
+        .collect();
+
+    // ---- Foot: column-mapped between bottom and top graphs.
+    let foot_top_left = chain.slice(s_foot_junction, s_edge_top); // junction -> edge top, y decreasing
+    let foot_bottom_left = chain.slice(s_edge_bottom, chain.length()); // edge bottom -> centre, y increasing
+    let graph = |poly: &Polyline, y: f64| -> f64 {
+        // Interpolate z(y) on a polyline monotonic in y.
+        let n = 4000;
+        let mut prev = poly.at_fraction(0.0);
+        for i in 1..=n {
+            let p = poly.at_fraction(i as f64 / n as f64);
+            let (lo, hi) = if prev[0] <= p[0] {
+                (prev, p)
+            } else {
+                (p, prev)
+            };
+            if y >= lo[0] - 1e-12 && y <= hi[0] + 1e-12 {
+                let t = if hi[0] > lo[0] {
+                    (y - lo[0]) / (hi[0] - lo[0])
+                } else {
+                    0.0
+                };
+                return lo[1] + t * (hi[1] - lo[1]);
+            }
+            prev = p;
+        }
+        prev[1]
+    };
+    let yj = foot_junction[0].abs();
+    // Parabolic junction perpendicular to the fillet: slope at the ends = -cot(angle).
+    let slope_end = 1.0 / FOOT_JUNCTION_ANGLE_DEG.to_radians().tan();
+    let junction_z = |y: f64| foot_junction[1] - slope_end * (yj * yj - y * y) / (2.0 * yj);
+    let z_top = |y: f64| {
+        if y.abs() <= yj {
+            junction_z(y)
+        } else {
+            graph(&foot_top_left, -y.abs())
+        }
+    };
+    let z_bottom = |y: f64| graph(&foot_bottom_left, -y.abs());
+    let half_foot = rail54e1::FOOT_WIDTH_MM / 2.0;
+    let n_wing = (((half_foot - yj) / h_body).round() as usize).max(1);
+    let mut stations = distribute::uniform(-half_foot, -yj, n_wing);
+    stations.pop();
+    stations.extend(distribute::uniform(-yj, yj, n_junction));
+    stations.pop();
+    stations.extend(distribute::uniform(yj, half_foot, n_wing));
+    let n_foot_rows = ((20.0 / h_body).round() as usize).max(2);
+    let foot_grid: Vec<Vec<P2>> = stations
+        .iter()
+        .map(|&y| {
+            (0..=n_foot_rows)
+                .map(|j| {
+                    let v = j as f64 / n_foot_rows as f64;
+                    [y, z_bottom(y) + v * (z_top(y) - z_bottom(y))]
+                })
+                .collect()
+        })
+        .collect();
+    let foot_ids = mesh.add_grid(&foot_grid, RAIL_PART);
+    mesh.tag("foot_bottom", foot_ids.iter().map(|col| col[0]));
+    let foot_junction_nodes: Vec<P2> = foot_ids[n_wing..=n_wing + n_junction]
+        .iter()
+        .map(|col| mesh.nodes[col[n_foot_rows]])
+        .collect();
+
+    // ---- Web: Coons patch between the two junctions.
+    let web_left_poly = reversed(&chain, s_head_junction, s_foot_junction, false); // foot -> head
+    let web_right_poly = mirrored(&web_left_poly);
+    let n_web_rows =
+        (((HEAD_JUNCTION_Z_MM - foot_junction[1]).abs() / h_body).round() as usize).max(2);
+    let web_left = web_left_poly.sample(&distribute::uniform(0.0, 1.0, n_web_rows));
+    let web_right = web_right_poly.sample(&distribute::uniform(0.0, 1.0, n_web_rows));
+    let web_grid = coons_patch(&foot_junction_nodes, &junction_nodes, &web_left, &web_right);
+    mesh.add_grid(&web_grid, RAIL_PART);
+    mesh
+}
+
+/// Part id used in rail sections.
+pub const RAIL_PART: u32 = super::material::RAIL;
