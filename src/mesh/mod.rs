@@ -3,11 +3,13 @@
 //! checks and file writers/readers.
 
 pub mod distribute;
+pub mod gmsh;
 pub mod hex;
 pub mod quality;
 pub mod rail;
 pub mod section;
 pub mod tie;
+pub mod vtu;
 pub mod track;
 pub mod wheel;
 
