@@ -34,13 +34,24 @@ pub enum Error {
 
 impl Error {
     /// Shorthand for an [`Error::Input`].
-    pub fn input(source_name: impl Into<String>, field: impl Into<String>, message: impl Into<String>) -> Self {
-        Error::Input { source_name: source_name.into(), field: field.into(), message: message.into() }
+    pub fn input(
+        source_name: impl Into<String>,
+        field: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Self {
+        Error::Input {
+            source_name: source_name.into(),
+            field: field.into(),
+            message: message.into(),
+        }
     }
 
     /// Shorthand for an [`Error::Io`] on `path`.
     pub fn io(path: &Path, source: std::io::Error) -> Self {
-        Error::Io { path: path.display().to_string(), source }
+        Error::Io {
+            path: path.display().to_string(),
+            source,
+        }
     }
 
     /// Process exit code: 2 for bad input (as the issues require), 1 otherwise.
