@@ -11,13 +11,13 @@
 //!   normalisation `psi^(s w_k) = (2 pi s / dt)^(1/2) psi0^(s w_k)` (eq. 6) and
 //!   `w_k = 2 pi k / (L dt)` for k <= L/2, negative above (eq. 5);
 //! - wavelet power `|W_n(s)|^2`; with this normalisation white noise of variance sigma^2 has
-//!   expected power sigma^2 at every n and s (T&C section 3c, after eq. 8);
+//!   expected power sigma^2 at every n and s (T&C section 3, "Wavelet power spectrum");
 //! - Fourier period `lambda s`, `lambda = 4 pi / (w0 + sqrt(2 + w0^2))` (Table 1; 1.033 for
 //!   w0 = 6); reported frequency `1 / (lambda s)`. For a pure tone, the continuous-scale maximum
 //!   of `|W|^2` lies exactly at this frequency (d/ds [s exp(-(s w - w0)^2)] = 0 gives
 //!   `s w = (w0 + sqrt(w0^2 + 2)) / 2`);
 //! - cone of influence: the e-folding time of the Morlet power at scale s is `sqrt(2) s`
-//!   (T&C section 3g); at time index n the distance to the nearer end is
+//!   (T&C section 3, "Cone of influence"); at time index n the distance to the nearer end is
 //!   `t_edge = min(n, N-1-n) dt` and periods longer than `lambda t_edge / sqrt(2)` are
 //!   affected by the ends.
 //!
