@@ -9,4 +9,5 @@ pub mod geometry;
 pub mod input;
 pub mod mesh;
 pub mod scenario;
+pub mod signal;
 pub use error::{Error, Result};

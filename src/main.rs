@@ -11,12 +11,22 @@ struct Cli {
 }
 
 #[derive(Subcommand)]
-enum Command {}
+enum Command {
+    /// Welch power spectral density and dominant peaks of a CSV column.
+    Psd(cli::signal::PsdArgs),
+    /// Morlet wavelet power (time x frequency) of a CSV column, with the cone of influence.
+    Cwt(cli::signal::CwtArgs),
+    /// A CSV column as a mono 16-bit WAV file (resampled, peak at 0.9 full scale).
+    Wav(cli::signal::WavArgs),
+}
 
 fn main() {
     let cli = Cli::parse();
     let result: squeal::Result<()> = match cli.command {
         None => Ok(()),
+        Some(Command::Psd(args)) => cli::signal::run_psd(args),
+        Some(Command::Cwt(args)) => cli::signal::run_cwt(args),
+        Some(Command::Wav(args)) => cli::signal::run_wav(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");

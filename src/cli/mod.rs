@@ -1,1 +1,3 @@
 //! Subcommand argument types and their glue to the library, one file per subcommand.
+
+pub mod signal;

@@ -1,0 +1,171 @@
+//! Uniformly sampled time series read from a CSV file with a `time_s` column.
+
+use std::path::Path;
+
+use crate::{Error, Result};
+
+/// Name of the time column (seconds).
+pub const TIME_COLUMN: &str = "time_s";
+/// Allowed relative deviation of each time step from the mean step.
+pub const UNIFORM_STEP_TOLERANCE: f64 = 1e-6;
+
+/// One column of a CSV file sampled at a uniform rate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimeSeries {
+    /// The column name.
+    pub column: String,
+    /// Time of the first sample, s.
+    pub start_time_s: f64,
+    /// `1 / mean time step`, Hz.
+    pub sample_rate_hz: f64,
+    /// The samples.
+    pub values: Vec<f64>,
+}
+
+impl TimeSeries {
+    /// Reads column `column` of `path`; the sample rate comes from the `time_s` column, whose
+    /// steps must all equal their mean within [`UNIFORM_STEP_TOLERANCE`] (relative).
+    pub fn from_csv(path: &Path, column: &str) -> Result<Self> {
+        let source = path.display().to_string();
+        let file = std::fs::File::open(path)
+            .map_err(|e| Error::input(source.clone(), "file", format!("cannot open: {e}")))?;
+        let mut reader = csv::ReaderBuilder::new()
+            .trim(csv::Trim::All)
+            .from_reader(file);
+        let headers = reader
+            .headers()
+            .map_err(|e| {
+                Error::input(
+                    source.clone(),
+                    "header",
+                    format!("cannot read the header: {e}"),
+                )
+            })?
+            .clone();
+        let available = headers.iter().collect::<Vec<_>>().join(", ");
+        let find = |name: &str| {
+            headers.iter().position(|h| h == name).ok_or_else(|| {
+                Error::input(
+                    source.clone(),
+                    name,
+                    format!("no column named `{name}`; available columns: {available}"),
+                )
+            })
+        };
+        let time_index = find(TIME_COLUMN)?;
+        let value_index = find(column)?;
+
+        let (mut times_s, mut values) = (Vec::new(), Vec::new());
+        for (row, record) in reader.records().enumerate() {
+            let line = row + 2; // 1-based, after the header
+            let record = record
+                .map_err(|e| Error::input(source.clone(), "row", format!("line {line}: {e}")))?;
+            let parse = |index: usize, name: &str| -> Result<f64> {
+                let text = record.get(index).unwrap_or("");
+                text.parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| {
+                        Error::input(
+                            source.clone(),
+                            name,
+                            format!("line {line}: `{text}` is not a finite number"),
+                        )
+                    })
+            };
+            times_s.push(parse(time_index, TIME_COLUMN)?);
+            values.push(parse(value_index, column)?);
+        }
+        let sample_rate_hz = uniform_sample_rate_hz(&times_s)
+            .map_err(|message| Error::input(source.clone(), TIME_COLUMN, message))?;
+        Ok(TimeSeries {
+            column: column.to_string(),
+            start_time_s: times_s[0],
+            sample_rate_hz,
+            values,
+        })
+    }
+
+    /// Duration spanned by the samples, s.
+    pub fn duration_s(&self) -> f64 {
+        (self.values.len().saturating_sub(1)) as f64 / self.sample_rate_hz
+    }
+}
+
+/// `1 / mean step` of increasing, uniformly spaced times; a message saying why not otherwise.
+pub fn uniform_sample_rate_hz(times_s: &[f64]) -> std::result::Result<f64, String> {
+    if times_s.len() < 2 {
+        return Err(format!(
+            "{} samples; need at least 2 to know the sample rate",
+            times_s.len()
+        ));
+    }
+    let mean_step_s = (times_s[times_s.len() - 1] - times_s[0]) / (times_s.len() - 1) as f64;
+    if mean_step_s.is_nan() || mean_step_s <= 0.0 {
+        return Err("times must increase".into());
+    }
+    for (k, pair) in times_s.windows(2).enumerate() {
+        let step_s = pair[1] - pair[0];
+        if (step_s - mean_step_s).abs() > UNIFORM_STEP_TOLERANCE * mean_step_s {
+            return Err(format!(
+                "not uniformly sampled: step {step_s} s between rows {} and {} differs from the mean \
+                 step {mean_step_s} s by more than {UNIFORM_STEP_TOLERANCE} (relative)",
+                k + 1,
+                k + 2
+            ));
+        }
+    }
+    Ok(1.0 / mean_step_s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write_temp(name: &str, text: &str) -> std::path::PathBuf {
+        let path =
+            std::env::temp_dir().join(format!("squeal-series-{}-{name}", std::process::id()));
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    #[test]
+    fn reads_column_and_sample_rate() {
+        let path = write_temp("ok.csv", "time_s,uy_m\n0.0,1\n0.001,2\n0.002,3\n");
+        let series = TimeSeries::from_csv(&path, "uy_m").unwrap();
+        assert!((series.sample_rate_hz - 1000.0).abs() < 1e-9);
+        assert_eq!(series.values, vec![1.0, 2.0, 3.0]);
+    }
+
+    #[test]
+    fn missing_column_lists_available_columns() {
+        let path = write_temp("cols.csv", "time_s,uy_m,uz_m\n0,1,2\n1,2,3\n");
+        let err = TimeSeries::from_csv(&path, "ux_m").unwrap_err();
+        assert_eq!(err.exit_code(), 2);
+        let text = err.to_string();
+        assert!(
+            text.contains("ux_m") && text.contains("time_s, uy_m, uz_m"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn missing_file_is_an_input_error_naming_the_file() {
+        let err = TimeSeries::from_csv(Path::new("/nonexistent/dir/x.csv"), "a").unwrap_err();
+        assert_eq!(err.exit_code(), 2);
+        assert!(err.to_string().contains("/nonexistent/dir/x.csv"));
+    }
+
+    #[test]
+    fn non_uniform_time_is_an_input_error() {
+        let path = write_temp("nonuni.csv", "time_s,a\n0,1\n1,2\n2.01,3\n3,4\n");
+        let err = TimeSeries::from_csv(&path, "a").unwrap_err();
+        assert_eq!(err.exit_code(), 2);
+        assert!(err.to_string().contains("not uniformly sampled"), "{err}");
+        let path = write_temp("bad.csv", "time_s,a\n0,1\n1,x\n");
+        assert!(TimeSeries::from_csv(&path, "a")
+            .unwrap_err()
+            .to_string()
+            .contains("line 3"));
+    }
+}
