@@ -12,6 +12,10 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Build the wheel or the whole model mesh; print quality; write VTU / Gmsh MSH 4.1.
+    Mesh(cli::mesh::MeshArgs),
+    /// Standard profiles (S1002 wheel, 54E1 rail) as point tables.
+    Profile(cli::profile::ProfileArgs),
     /// Welch power spectral density and dominant peaks of a CSV column.
     Psd(cli::signal::PsdArgs),
     /// Morlet wavelet power (time x frequency) of a CSV column, with the cone of influence.
@@ -23,7 +27,9 @@ enum Command {
 fn main() {
     let cli = Cli::parse();
     let result: squeal::Result<()> = match cli.command {
-        None => Ok(()),
+        None => cli::default_run::run(std::path::Path::new("reports/default")),
+        Some(Command::Mesh(args)) => cli::mesh::run(args),
+        Some(Command::Profile(args)) => cli::profile::run(args),
         Some(Command::Psd(args)) => cli::signal::run_psd(args),
         Some(Command::Cwt(args)) => cli::signal::run_cwt(args),
         Some(Command::Wav(args)) => cli::signal::run_wav(args),

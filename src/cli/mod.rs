@@ -1,3 +1,6 @@
 //! Subcommand argument types and their glue to the library, one file per subcommand.
 
+pub mod default_run;
+pub mod mesh;
+pub mod profile;
 pub mod signal;

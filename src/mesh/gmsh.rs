@@ -26,7 +26,11 @@ fn write_to(mesh: &Mesh, w: &mut impl Write) -> std::io::Result<()> {
     for (e, &m) in mesh.material.iter().enumerate() {
         by_material.entry(m).or_default().push(e);
     }
-    let surfaces: Vec<(&String, &Vec<[usize; 4]>)> = mesh.surfaces.iter().filter(|(_, f)| !f.is_empty()).collect();
+    let surfaces: Vec<(&String, &Vec<[usize; 4]>)> = mesh
+        .surfaces
+        .iter()
+        .filter(|(_, f)| !f.is_empty())
+        .collect();
     writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
     writeln!(w, "$PhysicalNames\n{}", by_material.len() + surfaces.len())?;
     for (k, (name, _)) in surfaces.iter().enumerate() {
@@ -47,14 +51,40 @@ fn write_to(mesh: &Mesh, w: &mut impl Write) -> std::io::Result<()> {
     }
     writeln!(w, "$Entities\n0 0 {} {}", surfaces.len(), by_material.len())?;
     for k in 0..surfaces.len() {
-        writeln!(w, "{} {} {} {} {} {} {} 1 {} 0", k + 1, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], k + 1)?;
+        writeln!(
+            w,
+            "{} {} {} {} {} {} {} 1 {} 0",
+            k + 1,
+            lo[0],
+            lo[1],
+            lo[2],
+            hi[0],
+            hi[1],
+            hi[2],
+            k + 1
+        )?;
     }
     for &m in by_material.keys() {
-        writeln!(w, "{} {} {} {} {} {} {} 1 {} 0", m, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], 1000 + m)?;
+        writeln!(
+            w,
+            "{} {} {} {} {} {} {} 1 {} 0",
+            m,
+            lo[0],
+            lo[1],
+            lo[2],
+            hi[0],
+            hi[1],
+            hi[2],
+            1000 + m
+        )?;
     }
     writeln!(w, "$EndEntities")?;
     let nn = mesh.nodes.len();
-    writeln!(w, "$Nodes\n1 {nn} 1 {nn}\n3 {} 0 {nn}", by_material.keys().next().copied().unwrap_or(1))?;
+    writeln!(
+        w,
+        "$Nodes\n1 {nn} 1 {nn}\n3 {} 0 {nn}",
+        by_material.keys().next().copied().unwrap_or(1)
+    )?;
     for i in 1..=nn {
         writeln!(w, "{i}")?;
     }
@@ -64,12 +94,23 @@ fn write_to(mesh: &Mesh, w: &mut impl Write) -> std::io::Result<()> {
     writeln!(w, "$EndNodes")?;
     let n_quads: usize = surfaces.iter().map(|(_, f)| f.len()).sum();
     let total = mesh.elements.len() + n_quads;
-    writeln!(w, "$Elements\n{} {total} 1 {total}", by_material.len() + surfaces.len())?;
+    writeln!(
+        w,
+        "$Elements\n{} {total} 1 {total}",
+        by_material.len() + surfaces.len()
+    )?;
     let mut tag = 1usize;
     for (k, (_, faces)) in surfaces.iter().enumerate() {
         writeln!(w, "2 {} 3 {}", k + 1, faces.len())?;
         for f in faces.iter() {
-            writeln!(w, "{tag} {} {} {} {}", f[0] + 1, f[1] + 1, f[2] + 1, f[3] + 1)?;
+            writeln!(
+                w,
+                "{tag} {} {} {} {}",
+                f[0] + 1,
+                f[1] + 1,
+                f[2] + 1,
+                f[3] + 1
+            )?;
             tag += 1;
         }
     }
@@ -77,7 +118,18 @@ fn write_to(mesh: &Mesh, w: &mut impl Write) -> std::io::Result<()> {
         writeln!(w, "3 {m} 5 {}", elems.len())?;
         for &e in elems {
             let c = mesh.elements[e];
-            writeln!(w, "{tag} {} {} {} {} {} {} {} {}", c[0] + 1, c[1] + 1, c[2] + 1, c[3] + 1, c[4] + 1, c[5] + 1, c[6] + 1, c[7] + 1)?;
+            writeln!(
+                w,
+                "{tag} {} {} {} {} {} {} {} {}",
+                c[0] + 1,
+                c[1] + 1,
+                c[2] + 1,
+                c[3] + 1,
+                c[4] + 1,
+                c[5] + 1,
+                c[6] + 1,
+                c[7] + 1
+            )?;
             tag += 1;
         }
     }
@@ -115,14 +167,23 @@ impl<'a> Lines<'a> {
                 return Ok(t);
             }
         }
-        Err(Error::input(&self.path, format!("line {}", self.line_no + 1), "unexpected end of file"))
+        Err(Error::input(
+            &self.path,
+            format!("line {}", self.line_no + 1),
+            "unexpected end of file",
+        ))
     }
     fn numbers<T: std::str::FromStr>(&mut self, expect: usize) -> Result<Vec<T>> {
         let line = self.next_line()?;
-        let vals: std::result::Result<Vec<T>, _> = line.split_whitespace().map(|t| t.parse::<T>()).collect();
+        let vals: std::result::Result<Vec<T>, _> =
+            line.split_whitespace().map(|t| t.parse::<T>()).collect();
         match vals {
             Ok(v) if v.len() >= expect => Ok(v),
-            _ => Err(Error::input(&self.path, format!("line {}", self.line_no), format!("expected {expect} numbers, got `{line}`"))),
+            _ => Err(Error::input(
+                &self.path,
+                format!("line {}", self.line_no),
+                format!("expected {expect} numbers, got `{line}`"),
+            )),
         }
     }
 }
@@ -131,7 +192,11 @@ impl<'a> Lines<'a> {
 pub fn read(path: &Path) -> Result<MshContents> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let name = path.display().to_string();
-    let mut lines = Lines { iter: text.lines().enumerate(), path: name.clone(), line_no: 0 };
+    let mut lines = Lines {
+        iter: text.lines().enumerate(),
+        path: name.clone(),
+        line_no: 0,
+    };
     let mut out = MshContents::default();
     let mut tag_to_index: BTreeMap<usize, usize> = BTreeMap::new();
     let mut raw_elements: Vec<(i64, i64, Vec<usize>)> = Vec::new();
@@ -142,7 +207,11 @@ pub fn read(path: &Path) -> Result<MshContents> {
                 let version = l.split_whitespace().next().unwrap_or("");
                 let file_type = l.split_whitespace().nth(1).unwrap_or("");
                 if !version.starts_with("4.1") || file_type != "0" {
-                    return Err(Error::input(&name, format!("line {}", lines.line_no), format!("only MSH 4.1 ASCII is supported, found `{l}`")));
+                    return Err(Error::input(
+                        &name,
+                        format!("line {}", lines.line_no),
+                        format!("only MSH 4.1 ASCII is supported, found `{l}`"),
+                    ));
                 }
             }
             "$PhysicalNames" => {
@@ -152,7 +221,10 @@ pub fn read(path: &Path) -> Result<MshContents> {
                     let mut parts = l.splitn(3, ' ');
                     let dim = parts.next().and_then(|v| v.parse().ok()).unwrap_or(-1);
                     let tag = parts.next().and_then(|v| v.parse().ok()).unwrap_or(-1);
-                    out.physical_names.insert((dim, tag), parts.next().unwrap_or("").trim_matches('"').to_string());
+                    out.physical_names.insert(
+                        (dim, tag),
+                        parts.next().unwrap_or("").trim_matches('"').to_string(),
+                    );
                 }
             }
             "$Nodes" => {
@@ -188,13 +260,29 @@ pub fn read(path: &Path) -> Result<MshContents> {
         }
     }
     let map = |tags: &[usize]| -> Result<Vec<usize>> {
-        tags.iter().map(|t| tag_to_index.get(t).copied().ok_or_else(|| Error::input(&name, "$Elements", format!("element refers to unknown node {t}")))).collect()
+        tags.iter()
+            .map(|t| {
+                tag_to_index.get(t).copied().ok_or_else(|| {
+                    Error::input(
+                        &name,
+                        "$Elements",
+                        format!("element refers to unknown node {t}"),
+                    )
+                })
+            })
+            .collect()
     };
     for (etype, entity, tags) in raw_elements {
         match etype {
-            5 if tags.len() == 8 => out.hexahedra.push((map(&tags)?.try_into().unwrap_or([0; 8]), entity)),
-            11 if tags.len() == 10 => out.tetrahedra10.push((map(&tags)?.try_into().unwrap_or([0; 10]), entity)),
-            3 if tags.len() == 4 => out.quads.push((map(&tags)?.try_into().unwrap_or([0; 4]), entity)),
+            5 if tags.len() == 8 => out
+                .hexahedra
+                .push((map(&tags)?.try_into().unwrap_or([0; 8]), entity)),
+            11 if tags.len() == 10 => out
+                .tetrahedra10
+                .push((map(&tags)?.try_into().unwrap_or([0; 10]), entity)),
+            3 if tags.len() == 4 => out
+                .quads
+                .push((map(&tags)?.try_into().unwrap_or([0; 4]), entity)),
             _ => {}
         }
     }

@@ -9,8 +9,8 @@ pub mod quality;
 pub mod rail;
 pub mod section;
 pub mod tie;
-pub mod vtu;
 pub mod track;
+pub mod vtu;
 pub mod wheel;
 
 use std::collections::{BTreeMap, HashMap};

@@ -21,6 +21,13 @@ pub struct RailSectionSizes {
     pub body_mm: f64,
 }
 
+/// Half-width of the finely meshed crown band (mm): wheel contact on the paper's cases stays
+/// well inside it (patch semi-axis ~5 mm, lateral shifts of a few mm).
+pub const CROWN_BAND_HALF_WIDTH_MM: f64 = 15.0;
+const HEAD_CORE_HALF_WIDTH_MM: f64 = 20.0;
+const HEAD_CORE_BOTTOM_Z_MM: f64 = -29.0;
+const HEAD_CORE_TOP_Z_MM: f64 = -10.0;
+
 /// Height of the straight head-web junction (mm), on the R22 fillet arc.
 const HEAD_JUNCTION_Z_MM: f64 = -52.0;
 /// Angle below the horizontal, on the R16 web-foot fillet, of the web-foot junction point.
@@ -58,9 +65,14 @@ pub fn rail_section(sizes: RailSectionSizes) -> SectionMesh {
     let chain = Polyline::new(sample_chain(&segs, 0.01));
     let arc_mid = |seg: &Segment| seg.point_at(0.5);
     // Key points on the left half (indices follow rail54e1::left_half_segments).
-    // O-grid anchor at the middle of the R13 gauge-corner arc: the head outline's "corner", so
-    // the ring lines fan out diagonally there instead of running along the outline.
-    let p_side_top = arc_mid(&segs[2]);
+    // O-grid anchors at y = -/+ CROWN_BAND_HALF_WIDTH_MM on the crown: side 2 (the fine side)
+    // is only the crown band where wheel contact happens; the gauge corners and side faces
+    // belong to sides 1 and 3, which are coarser. This keeps the core cells (whose count is tied
+    // to the fine side's) at least one running-surface element wide.
+    let p_side_top = [
+        -CROWN_BAND_HALF_WIDTH_MM,
+        rail54e1::top_surface_z_mm(-CROWN_BAND_HALF_WIDTH_MM).unwrap_or(0.0),
+    ];
     let p_head_corner = arc_mid(&segs[4]);
     let head_junction = {
         if let Segment::Arc { centre, radius, .. } = segs[7] {
@@ -101,15 +113,21 @@ pub fn rail_section(sizes: RailSectionSizes) -> SectionMesh {
     let right_under = reversed(&chain, s_head_corner, s_head_junction, true);
     let side0 = Polyline::join(&[left_under.clone(), junction.clone(), right_under]);
     let side1 = reversed(&chain, s_side_top, s_head_corner, true);
-    let n2 = ((side2.length() / h_rs).ceil() as usize).max(4);
-    let mut n_junction = ((junction.length() / h_body).round() as usize).max(2);
-    if (n2 - n_junction) % 2 == 1 {
-        n_junction += 1;
-    }
-    let n_under = ((n2 - n_junction.min(n2 - 2)) / 2).max(1);
+    // Side 0 (underside, fillets, junction) needs enough nodes for its chords to follow the
+    // concave R8/R22 fillets (at least 3 per half); side 2 (crown band) gets the same count,
+    // at least the running-surface resolution.
+    let n_under = ((left_under.length() / h_body).ceil() as usize).max(3);
+    let n_junction = ((junction.length() / h_body).round() as usize).max(2);
+    let n_fine = ((side2.length() / h_rs).ceil() as usize).max(4);
+    let n_under = n_under.max((n_fine.saturating_sub(n_junction)).div_ceil(2));
     let n2 = 2 * n_under + n_junction;
-    let n13 = ((side3.length() / (1.5 * h_rs)).ceil() as usize).max(1);
-    let ring_depth_mm = 14.0;
+    // Sides 1 and 3 (gauge corner and side face) are limited so that the core's vertical cells,
+    // whose count they set, stay >= 0.6 h_rs; the chords then follow the R13 arc less closely on
+    // coarse meshes (measured area loss 0.5 % at 6 mm, see tests/track_mesh.rs).
+    let n13 = ((side3.length() / (1.5 * h_rs)).ceil() as usize)
+        .min(((HEAD_CORE_TOP_Z_MM - HEAD_CORE_BOTTOM_Z_MM) / (0.6 * h_rs)).floor() as usize)
+        .max(2);
+    let ring_depth_mm = -HEAD_CORE_TOP_Z_MM;
     let ratio = 1.25f64;
     let mut rows = 1usize;
     while rows < 40 && ring_depth_mm * geometric_fractions(rows, ratio)[1] > h_rs {
@@ -130,7 +148,14 @@ pub fn rail_section(sizes: RailSectionSizes) -> SectionMesh {
     }
     let head = OGrid {
         sides: [side0, side1, side2, side3],
-        core: [[-20.0, -28.0], [20.0, -28.0], [20.0, -14.0], [-20.0, -14.0]],
+        core: [
+            [-HEAD_CORE_HALF_WIDTH_MM, HEAD_CORE_BOTTOM_Z_MM],
+            [HEAD_CORE_HALF_WIDTH_MM, HEAD_CORE_BOTTOM_Z_MM],
+            // Top corners straight below the crown band ends: the core's top cells are then as
+            // wide as the crown band's elements.
+            [CROWN_BAND_HALF_WIDTH_MM, HEAD_CORE_TOP_Z_MM],
+            [-CROWN_BAND_HALF_WIDTH_MM, HEAD_CORE_TOP_Z_MM],
+        ],
         side_fractions: [
             f0,
             distribute::uniform(0.0, 1.0, n13),
@@ -203,7 +228,10 @@ pub fn rail_section(sizes: RailSectionSizes) -> SectionMesh {
     stations.extend(distribute::uniform(-yj, yj, n_junction));
     stations.pop();
     stations.extend(distribute::uniform(yj, half_foot, n_wing));
-    let n_foot_rows = ((20.0 / h_body).round() as usize).max(2);
+    // Rows across the foot: the outer edge is only ~6.4 mm tall between its fillets, and uniform
+    // rows must not make it the smallest element of the rail.
+    let edge_height = z_top(-half_foot) - z_bottom(-half_foot);
+    let n_foot_rows = ((edge_height / h_body).floor() as usize).max(1);
     let foot_grid: Vec<Vec<P2>> = stations
         .iter()
         .map(|&y| {
@@ -231,6 +259,7 @@ pub fn rail_section(sizes: RailSectionSizes) -> SectionMesh {
     let web_right = web_right_poly.sample(&distribute::uniform(0.0, 1.0, n_web_rows));
     let web_grid = coons_patch(&foot_junction_nodes, &junction_nodes, &web_left, &web_right);
     mesh.add_grid(&web_grid, RAIL_PART);
+    mesh.smooth(20);
     mesh
 }
 

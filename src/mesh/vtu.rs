@@ -18,12 +18,24 @@ const B64: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz012
 pub fn base64_encode(bytes: &[u8]) -> String {
     let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
     for chunk in bytes.chunks(3) {
-        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
         let n = ((b[0] as u32) << 16) | ((b[1] as u32) << 8) | b[2] as u32;
         out.push(B64[(n >> 18) as usize & 63] as char);
         out.push(B64[(n >> 12) as usize & 63] as char);
-        out.push(if chunk.len() > 1 { B64[(n >> 6) as usize & 63] as char } else { '=' });
-        out.push(if chunk.len() > 2 { B64[n as usize & 63] as char } else { '=' });
+        out.push(if chunk.len() > 1 {
+            B64[(n >> 6) as usize & 63] as char
+        } else {
+            '='
+        });
+        out.push(if chunk.len() > 2 {
+            B64[n as usize & 63] as char
+        } else {
+            '='
+        });
     }
     out
 }
@@ -86,36 +98,88 @@ pub fn write(mesh: &Mesh, path: &Path, extra_vectors: &[PointVectorField]) -> Re
     write_to(mesh, &mut w, extra_vectors).map_err(|e| Error::io(path, e))
 }
 
-fn write_to(mesh: &Mesh, w: &mut impl Write, extra_vectors: &[PointVectorField]) -> std::io::Result<()> {
+fn write_to(
+    mesh: &Mesh,
+    w: &mut impl Write,
+    extra_vectors: &[PointVectorField],
+) -> std::io::Result<()> {
     let (nn, ne) = (mesh.nodes.len(), mesh.elements.len());
     writeln!(w, r#"<?xml version="1.0"?>"#)?;
-    writeln!(w, r#"<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">"#)?;
-    writeln!(w, "<UnstructuredGrid>\n<Piece NumberOfPoints=\"{nn}\" NumberOfCells=\"{ne}\">")?;
+    writeln!(
+        w,
+        r#"<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">"#
+    )?;
+    writeln!(
+        w,
+        "<UnstructuredGrid>\n<Piece NumberOfPoints=\"{nn}\" NumberOfCells=\"{ne}\">"
+    )?;
     writeln!(w, "<PointData>")?;
     for (name, ids) in &mesh.node_sets {
         let mut flag = vec![0u8; nn];
         for &i in ids {
             flag[i] = 1;
         }
-        writeln!(w, "<DataArray type=\"UInt8\" Name=\"set_{name}\" format=\"binary\">{}</DataArray>", encode_block(&flag))?;
+        writeln!(
+            w,
+            "<DataArray type=\"UInt8\" Name=\"set_{name}\" format=\"binary\">{}</DataArray>",
+            encode_block(&flag)
+        )?;
     }
     for field in extra_vectors {
-        let bytes: Vec<u8> = field.values.iter().flat_map(|v| v.iter().flat_map(|c| c.to_le_bytes())).collect();
+        let bytes: Vec<u8> = field
+            .values
+            .iter()
+            .flat_map(|v| v.iter().flat_map(|c| c.to_le_bytes()))
+            .collect();
         writeln!(w, "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\" format=\"binary\">{}</DataArray>", field.name, encode_block(&bytes))?;
     }
     writeln!(w, "</PointData>\n<CellData>")?;
-    let mat: Vec<u8> = mesh.material.iter().flat_map(|&m| (m as i32).to_le_bytes()).collect();
-    writeln!(w, "<DataArray type=\"Int32\" Name=\"material\" format=\"binary\">{}</DataArray>", encode_block(&mat))?;
+    let mat: Vec<u8> = mesh
+        .material
+        .iter()
+        .flat_map(|&m| (m as i32).to_le_bytes())
+        .collect();
+    writeln!(
+        w,
+        "<DataArray type=\"Int32\" Name=\"material\" format=\"binary\">{}</DataArray>",
+        encode_block(&mat)
+    )?;
     writeln!(w, "</CellData>\n<Points>")?;
-    let pts: Vec<u8> = mesh.nodes.iter().flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes())).collect();
-    writeln!(w, "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"binary\">{}</DataArray>", encode_block(&pts))?;
+    let pts: Vec<u8> = mesh
+        .nodes
+        .iter()
+        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
+        .collect();
+    writeln!(
+        w,
+        "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"binary\">{}</DataArray>",
+        encode_block(&pts)
+    )?;
     writeln!(w, "</Points>\n<Cells>")?;
-    let conn: Vec<u8> = mesh.elements.iter().flat_map(|c| c.iter().flat_map(|&n| (n as i64).to_le_bytes())).collect();
-    writeln!(w, "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"binary\">{}</DataArray>", encode_block(&conn))?;
-    let offsets: Vec<u8> = (1..=ne).flat_map(|k| ((8 * k) as i64).to_le_bytes()).collect();
-    writeln!(w, "<DataArray type=\"Int64\" Name=\"offsets\" format=\"binary\">{}</DataArray>", encode_block(&offsets))?;
+    let conn: Vec<u8> = mesh
+        .elements
+        .iter()
+        .flat_map(|c| c.iter().flat_map(|&n| (n as i64).to_le_bytes()))
+        .collect();
+    writeln!(
+        w,
+        "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"binary\">{}</DataArray>",
+        encode_block(&conn)
+    )?;
+    let offsets: Vec<u8> = (1..=ne)
+        .flat_map(|k| ((8 * k) as i64).to_le_bytes())
+        .collect();
+    writeln!(
+        w,
+        "<DataArray type=\"Int64\" Name=\"offsets\" format=\"binary\">{}</DataArray>",
+        encode_block(&offsets)
+    )?;
     let types = vec![12u8; ne]; // VTK_HEXAHEDRON
-    writeln!(w, "<DataArray type=\"UInt8\" Name=\"types\" format=\"binary\">{}</DataArray>", encode_block(&types))?;
+    writeln!(
+        w,
+        "<DataArray type=\"UInt8\" Name=\"types\" format=\"binary\">{}</DataArray>",
+        encode_block(&types)
+    )?;
     writeln!(w, "</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>")?;
     w.flush()
 }
@@ -152,22 +216,45 @@ fn decode_array(path: &str, attrs: &str, body: &str) -> Result<Vec<f64>> {
     let ty = attr("type").ok_or_else(|| bad(path, "DataArray without type"))?;
     let format = attr("format").unwrap_or_else(|| "ascii".into());
     if format == "ascii" {
-        return body.split_whitespace().map(|t| t.parse::<f64>().map_err(|_| bad(path, format!("bad number `{t}`")))).collect();
+        return body
+            .split_whitespace()
+            .map(|t| {
+                t.parse::<f64>()
+                    .map_err(|_| bad(path, format!("bad number `{t}`")))
+            })
+            .collect();
     }
     if format != "binary" {
-        return Err(bad(path, format!("unsupported DataArray format `{format}` (ascii or binary)")));
+        return Err(bad(
+            path,
+            format!("unsupported DataArray format `{format}` (ascii or binary)"),
+        ));
     }
     let raw = base64_decode(body).ok_or_else(|| bad(path, "invalid base64 data"))?;
     if raw.len() < 8 {
         return Err(bad(path, "binary block shorter than its header"));
     }
     let len = u64::from_le_bytes(raw[..8].try_into().unwrap_or([0; 8])) as usize;
-    let data = raw.get(8..8 + len).ok_or_else(|| bad(path, "binary block shorter than its byte count"))?;
+    let data = raw
+        .get(8..8 + len)
+        .ok_or_else(|| bad(path, "binary block shorter than its byte count"))?;
     let vals: Vec<f64> = match ty.as_str() {
-        "Float64" => data.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8]))).collect(),
-        "Float32" => data.chunks_exact(4).map(|c| f32::from_le_bytes(c.try_into().unwrap_or([0; 4])) as f64).collect(),
-        "Int64" => data.chunks_exact(8).map(|c| i64::from_le_bytes(c.try_into().unwrap_or([0; 8])) as f64).collect(),
-        "Int32" => data.chunks_exact(4).map(|c| i32::from_le_bytes(c.try_into().unwrap_or([0; 4])) as f64).collect(),
+        "Float64" => data
+            .chunks_exact(8)
+            .map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
+            .collect(),
+        "Float32" => data
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes(c.try_into().unwrap_or([0; 4])) as f64)
+            .collect(),
+        "Int64" => data
+            .chunks_exact(8)
+            .map(|c| i64::from_le_bytes(c.try_into().unwrap_or([0; 8])) as f64)
+            .collect(),
+        "Int32" => data
+            .chunks_exact(4)
+            .map(|c| i32::from_le_bytes(c.try_into().unwrap_or([0; 4])) as f64)
+            .collect(),
         "UInt8" => data.iter().map(|&b| b as f64).collect(),
         other => return Err(bad(path, format!("unsupported DataArray type `{other}`"))),
     };
@@ -185,7 +272,10 @@ pub fn read(path: &Path) -> Result<VtuContents> {
     let (mut conn, mut offsets) = (Vec::new(), Vec::new());
     while let Some(start) = text[pos..].find('<') {
         let start = pos + start;
-        let end = start + text[start..].find('>').ok_or_else(|| bad(&name, "unterminated tag"))?;
+        let end = start
+            + text[start..]
+                .find('>')
+                .ok_or_else(|| bad(&name, "unterminated tag"))?;
         let tag = &text[start + 1..end];
         pos = end + 1;
         for s in ["PointData", "CellData", "Points", "Cells"] {
@@ -194,7 +284,10 @@ pub fn read(path: &Path) -> Result<VtuContents> {
             }
         }
         if tag.starts_with("DataArray") {
-            let close = pos + text[pos..].find("</DataArray>").ok_or_else(|| bad(&name, "DataArray not closed"))?;
+            let close = pos
+                + text[pos..]
+                    .find("</DataArray>")
+                    .ok_or_else(|| bad(&name, "DataArray not closed"))?;
             let vals = decode_array(&name, tag, &text[pos..close])?;
             pos = close;
             let aname = tag.find("Name=\"").map(|i| {
@@ -202,10 +295,16 @@ pub fn read(path: &Path) -> Result<VtuContents> {
                 r[..r.find('"').unwrap_or(0)].to_string()
             });
             match (section, aname.as_deref()) {
-                ("Points", _) => out.points = vals.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
-                ("Cells", Some("connectivity")) => conn = vals.iter().map(|&v| v as usize).collect(),
+                ("Points", _) => {
+                    out.points = vals.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+                }
+                ("Cells", Some("connectivity")) => {
+                    conn = vals.iter().map(|&v| v as usize).collect()
+                }
                 ("Cells", Some("offsets")) => offsets = vals.iter().map(|&v| v as usize).collect(),
-                ("Cells", Some("types")) => out.cell_types = vals.iter().map(|&v| v as u8).collect(),
+                ("Cells", Some("types")) => {
+                    out.cell_types = vals.iter().map(|&v| v as u8).collect()
+                }
                 ("PointData", Some(n)) => {
                     out.point_data.insert(n.to_string(), vals);
                 }

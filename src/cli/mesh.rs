@@ -1,0 +1,152 @@
+//! `squeal mesh`: build the wheel or the whole model mesh, print its quality, write VTU / MSH.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use squeal::geometry::wheel::WheelSpec;
+use squeal::mesh::quality::dilatational_wave_speed;
+use squeal::mesh::wheel::{wheel_mesh, WheelPlacement};
+use squeal::mesh::{gmsh, vtu, Mesh};
+use squeal::scenario::LoadedScenario;
+use squeal::{Error, Result};
+
+/// Arguments of `squeal mesh`.
+#[derive(Args, Debug)]
+#[command(group(clap::ArgGroup::new("input").required(true).args(["scenario", "wheel"])))]
+pub struct MeshArgs {
+    /// Scenario file (wheel + track), e.g. data/scenarios/demo.json.
+    #[arg(long)]
+    pub scenario: Option<PathBuf>,
+    /// Wheel file only (wheel and half axle), e.g. data/wheels/ns_intercity_920.json.
+    #[arg(long)]
+    pub wheel: Option<PathBuf>,
+    /// Output mesh file(s): `.vtu` (ParaView) or `.msh` (Gmsh 4.1); may be repeated.
+    #[arg(long)]
+    pub out: Vec<PathBuf>,
+    /// Write the quality report as JSON to this file.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+}
+
+/// Mass of the elements of the given materials (kg), from their volume and density.
+pub fn mass_kg(mesh: &Mesh, materials: &[u32], density_kg_per_m3: f64) -> f64 {
+    mesh.volume_by_material()
+        .iter()
+        .filter(|(m, _)| materials.contains(m))
+        .map(|(_, v)| v * density_kg_per_m3)
+        .sum()
+}
+
+/// Run `squeal mesh`.
+pub fn run(args: MeshArgs) -> Result<()> {
+    for out in &args.out {
+        match out.extension().and_then(|e| e.to_str()) {
+            Some("vtu") | Some("msh") => {}
+            _ => {
+                return Err(Error::input(
+                    "command line",
+                    "--out",
+                    format!("`{}`: the extension must be .vtu or .msh", out.display()),
+                ))
+            }
+        }
+    }
+    let started = std::time::Instant::now();
+    let (mesh, steel) = if let Some(path) = &args.scenario {
+        let loaded = LoadedScenario::from_file(path)?;
+        (loaded.model_mesh(), loaded.wheel.material)
+    } else {
+        let path = args.wheel.as_ref().expect("clap group requires one input");
+        let spec: WheelSpec = squeal::input::read_json(path)?;
+        spec.validate(&path.display().to_string())?;
+        (
+            wheel_mesh(&spec, None, &WheelPlacement::default()),
+            spec.material,
+        )
+    };
+    let built = started.elapsed();
+    let c_l = dilatational_wave_speed(
+        steel.youngs_modulus_pa,
+        steel.poisson_ratio,
+        steel.density_kg_per_m3,
+    );
+    let quality = mesh.quality(c_l);
+    println!(
+        "built {} elements in {:.2} s",
+        mesh.element_count(),
+        built.as_secs_f64()
+    );
+    println!("{}", quality.summary());
+    print_parts(&mesh, steel.density_kg_per_m3);
+    quality.check_valid()?;
+    if let Some(json) = &args.json {
+        write_json(json, &quality)?;
+    }
+    for out in &args.out {
+        write_mesh(&mesh, out)?;
+        println!("wrote {}", out.display());
+    }
+    Ok(())
+}
+
+/// Print element counts, masses, sets, surfaces and ties.
+pub fn print_parts(mesh: &Mesh, steel_density: f64) {
+    use squeal::mesh::material;
+    let wheel = mass_kg(
+        mesh,
+        &[material::WHEEL, material::TREAD_BAND],
+        steel_density,
+    );
+    let axle = mass_kg(mesh, &[material::AXLE], steel_density);
+    if wheel > 0.0 {
+        println!(
+            "wheel mass {wheel:.1} kg, half-axle mass {axle:.1} kg (steel {steel_density} kg/m^3)"
+        );
+    }
+    let rail_m = mass_kg(mesh, &[material::RAIL], steel_density);
+    if rail_m > 0.0 {
+        println!("rail mass {rail_m:.1} kg");
+    }
+    let sets: Vec<String> = mesh
+        .node_sets
+        .iter()
+        .filter(|(k, _)| !k.chars().last().is_some_and(|c| c.is_ascii_digit()))
+        .map(|(k, v)| format!("{k} ({})", v.len()))
+        .collect();
+    println!("node sets: {}", sets.join(", "));
+    let surfaces: Vec<String> = mesh
+        .surfaces
+        .iter()
+        .map(|(k, v)| format!("{k} ({} faces)", v.len()))
+        .collect();
+    println!("surfaces: {}", surfaces.join(", "));
+    for t in &mesh.ties {
+        println!(
+            "tied interface {}: {} slave nodes, largest offset {:.3} mm",
+            t.name,
+            t.pairs.len(),
+            t.max_gap_m() * 1e3
+        );
+    }
+}
+
+/// Write a JSON value to a file.
+pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    let text = serde_json::to_string_pretty(value)
+        .map_err(|e| Error::Numerical(format!("JSON encoding: {e}")))?;
+    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+}
+
+/// Write a mesh by extension (.vtu or .msh).
+pub fn write_mesh(mesh: &Mesh, out: &Path) -> Result<()> {
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    match out.extension().and_then(|e| e.to_str()) {
+        Some("msh") => gmsh::write(mesh, out),
+        _ => vtu::write(mesh, out, &[]),
+    }
+}

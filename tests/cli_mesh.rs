@@ -1,0 +1,233 @@
+//! `squeal mesh` and `squeal profile` from the command line, including every bad-input case
+//! the foundation issue lists: a clear message naming the file and field, exit code 2, and no
+//! output file written.
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn squeal() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_squeal"))
+}
+
+fn temp_dir(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("squeal-cli-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+/// Copy the demo scenario and wheel into `dir`, applying `edit` to the parsed JSON of `which`.
+fn edited_inputs(
+    dir: &Path,
+    which: &str,
+    edit: impl Fn(&mut serde_json::Value),
+) -> (PathBuf, PathBuf) {
+    let mut scenario: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("data/scenarios/demo.json").expect("demo"))
+            .expect("json");
+    let mut wheel: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string("data/wheels/ns_intercity_920.json").expect("wheel"),
+    )
+    .expect("json");
+    scenario["wheel_file"] = serde_json::Value::String("wheel.json".into());
+    if which == "wheel" {
+        edit(&mut wheel);
+    } else {
+        edit(&mut scenario);
+    }
+    let (sp, wp) = (dir.join("scenario.json"), dir.join("wheel.json"));
+    std::fs::write(
+        &sp,
+        serde_json::to_string_pretty(&scenario).expect("encode"),
+    )
+    .expect("write");
+    std::fs::write(&wp, serde_json::to_string_pretty(&wheel).expect("encode")).expect("write");
+    (sp, wp)
+}
+
+fn expect_input_error(
+    tag: &str,
+    which: &str,
+    edit: impl Fn(&mut serde_json::Value),
+    must_mention: &[&str],
+) {
+    let dir = temp_dir(tag);
+    let (scenario, wheel) = edited_inputs(&dir, which, edit);
+    let out = dir.join("out.vtu");
+    let args: Vec<String> = if which == "wheel" {
+        vec![
+            "mesh".into(),
+            "--wheel".into(),
+            wheel.display().to_string(),
+            "--out".into(),
+            out.display().to_string(),
+        ]
+    } else {
+        vec![
+            "mesh".into(),
+            "--scenario".into(),
+            scenario.display().to_string(),
+            "--out".into(),
+            out.display().to_string(),
+        ]
+    };
+    let result = squeal().args(&args).output().expect("run squeal");
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(2), "{tag}: stderr {stderr}");
+    for m in must_mention {
+        assert!(stderr.contains(m), "{tag}: `{m}` missing from: {stderr}");
+    }
+    assert!(!out.exists(), "{tag}: output written despite the error");
+}
+
+#[test]
+fn unknown_field_is_named() {
+    expect_input_error(
+        "unknown",
+        "wheel",
+        |w| w["web"]["thicknes_mm"] = 3.into(),
+        &["wheel.json", "web", "unknown field `thicknes_mm`"],
+    );
+}
+
+#[test]
+fn missing_field_is_named() {
+    expect_input_error(
+        "missing",
+        "wheel",
+        |w| {
+            w["hub"]
+                .as_object_mut()
+                .expect("hub")
+                .remove("bore_radius_mm");
+        },
+        &["wheel.json", "hub", "missing field `bore_radius_mm`"],
+    );
+}
+
+#[test]
+fn negative_and_zero_dimensions_are_rejected() {
+    expect_input_error(
+        "negative",
+        "wheel",
+        |w| w["nominal_radius_mm"] = (-460.0).into(),
+        &["nominal_radius_mm", "[200, 1000]"],
+    );
+    expect_input_error(
+        "zero",
+        "scenario",
+        |s| s["track"]["sleeper"]["height_m"] = 0.0.into(),
+        &["scenario.json", "track.sleeper.height_m"],
+    );
+}
+
+#[test]
+fn web_thicker_than_rim_is_rejected() {
+    expect_input_error(
+        "web",
+        "wheel",
+        |w| w["web"]["thickness_at_rim_mm"] = 150.0.into(),
+        &["web.thickness_at_rim_mm", "thinner than the rim"],
+    );
+}
+
+#[test]
+fn circumferential_count_below_eight_is_rejected() {
+    expect_input_error(
+        "circ",
+        "wheel",
+        |w| w["mesh"]["circumferential_divisions"] = 4.into(),
+        &["mesh.circumferential_divisions", "multiple of 8"],
+    );
+}
+
+#[test]
+fn solution_zone_outside_the_track_is_rejected() {
+    expect_input_error(
+        "zone",
+        "scenario",
+        |s| s["track"]["solution_zone"]["start_m"] = 9.5.into(),
+        &["track.solution_zone.start_m", "inside the track"],
+    );
+}
+
+#[test]
+fn malformed_json_is_reported_with_its_file() {
+    let dir = temp_dir("malformed");
+    let path = dir.join("bad.json");
+    std::fs::write(&path, "{ \"name\": ").expect("write");
+    let result = squeal()
+        .args(["mesh", "--wheel", path.to_str().expect("utf8")])
+        .output()
+        .expect("run");
+    assert_eq!(result.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&result.stderr).contains("bad.json"));
+}
+
+#[test]
+fn mesh_writes_vtu_msh_and_json() {
+    let dir = temp_dir("ok");
+    let (vtu, msh, json) = (dir.join("w.vtu"), dir.join("w.msh"), dir.join("q.json"));
+    let result = squeal()
+        .args([
+            "mesh",
+            "--wheel",
+            "data/wheels/ns_intercity_920.json",
+            "--out",
+            vtu.to_str().expect("utf8"),
+            "--out",
+            msh.to_str().expect("utf8"),
+            "--json",
+            json.to_str().expect("utf8"),
+        ])
+        .output()
+        .expect("run");
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    assert!(
+        stdout.contains("critical time step") && stdout.contains("wheel mass"),
+        "{stdout}"
+    );
+    let q: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("parse");
+    assert_eq!(q["inverted_elements"], 0);
+    assert!(vtu.exists() && msh.exists());
+}
+
+#[test]
+fn profiles_print_point_tables() {
+    let out = squeal()
+        .args(["profile", "s1002", "--csv", "--step-mm", "1"])
+        .output()
+        .expect("run");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("s_mm,f_mm"));
+    let rows: Vec<(f64, f64)> = lines
+        .map(|l| {
+            let mut it = l.split(',').map(|v| v.parse::<f64>().expect("number"));
+            (it.next().expect("s"), it.next().expect("f"))
+        })
+        .collect();
+    assert!(rows.len() > 135);
+    let tip = rows
+        .iter()
+        .find(|r| (r.0 + 55.0).abs() < 1e-9)
+        .expect("S = -55 row");
+    assert!((tip.1 - 28.0).abs() < 1e-6);
+    let out = squeal()
+        .args(["profile", "54e1", "--csv", "--inclined"])
+        .output()
+        .expect("run");
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("y_mm,z_mm"));
+    let bad = squeal()
+        .args(["profile", "s1002", "--step-mm", "0"])
+        .output()
+        .expect("run");
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--step-mm"));
+}

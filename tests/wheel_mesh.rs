@@ -1,0 +1,254 @@
+//! Wheel meshes against independent references: Pappus' theorem for the revolved volume, the
+//! S1002 profile for the tread nodes, positive Jacobians over many parameter combinations, and
+//! the explicit time step of the tread band.
+use std::f64::consts::TAU;
+
+use squeal::geometry::curve2d::polygon_properties;
+use squeal::geometry::s1002;
+use squeal::geometry::wheel::{body_outline_mm, WebShape, WheelSpec};
+use squeal::mesh::quality::dilatational_wave_speed;
+use squeal::mesh::wheel::{wheel_mesh, TreadBandSpec, WheelPlacement};
+use squeal::mesh::{material, Mesh};
+
+fn default_wheel() -> WheelSpec {
+    squeal::input::read_json(std::path::Path::new("data/wheels/ns_intercity_920.json"))
+        .expect("default wheel")
+}
+
+fn wheel_only(mut spec: WheelSpec, size_mm: f64, n: usize, n_inner: usize) -> Mesh {
+    spec.axle = None;
+    spec.mesh.element_size_mm = size_mm;
+    spec.mesh.circumferential_divisions = n;
+    spec.mesh.inner_circumferential_divisions = n_inner;
+    spec.validate("test").expect("valid");
+    wheel_mesh(&spec, None, &WheelPlacement::default())
+}
+
+/// Pappus: V = 2 pi A r_c for the exact section. A mesh of N straight-chord sectors holds
+/// V sin(dtheta)/dtheta of each revolved area element (polygon of N sides inscribed in each
+/// circle), so the chord factor is taken out and what is left is the section discretisation,
+/// which must shrink under refinement.
+#[test]
+fn revolved_volume_matches_pappus_and_converges() {
+    let spec = default_wheel();
+    let outline: Vec<[f64; 2]> = body_outline_mm(&spec, 0.01);
+    // polygon_properties works in (horizontal, vertical) = (S, r): centroid[1] is the radius.
+    let (area_mm2, centroid, _, _) = polygon_properties(&outline);
+    let pappus_m3 = TAU * area_mm2 * centroid[1] * 1e-9;
+    let mut errors = Vec::new();
+    for (size, n) in [(16.0, 64usize), (8.0, 128), (4.0, 256)] {
+        let mesh = wheel_only(spec.clone(), size, n, n);
+        let dtheta = TAU / n as f64;
+        let chord_factor = dtheta.sin() / dtheta;
+        let v = mesh.volume();
+        let err = (v / (pappus_m3 * chord_factor) - 1.0).abs();
+        errors.push(err);
+        eprintln!("size {size} mm, N {n}: volume {v:.6e} m^3, Pappus {pappus_m3:.6e}, section error {err:.2e}");
+    }
+    // The section is meshed with straight edges on a curved tread: error of order h^2 / R_curv,
+    // well under 0.5 % even at 16 mm; refinement must not make it worse.
+    assert!(errors[0] < 5e-3, "{errors:?}");
+    assert!(
+        errors[2] <= errors[0] && errors[2] < 1e-3,
+        "no convergence: {errors:?}"
+    );
+    // Plausible wheel mass: 350-420 kg for a 920 mm passenger wheel (../shared/DATA.md sec. 3).
+    let mass = pappus_m3 * spec.material.density_kg_per_m3;
+    assert!((340.0..=420.0).contains(&mass), "wheel mass {mass} kg");
+}
+
+#[test]
+fn tread_and_bore_nodes_lie_on_their_surfaces() {
+    let spec = default_wheel();
+    let mesh = wheel_mesh(&spec, None, &WheelPlacement::default());
+    let tread = mesh.node_set("tread").expect("tread set");
+    assert!(tread.len() > 100);
+    for &i in tread {
+        let [x, y, z] = mesh.nodes[i];
+        let r_mm = x.hypot(z) * 1e3;
+        let s_mm = y * 1e3;
+        // Nodes are placed on the profile exactly (to the 0.02 mm sampling of the flange
+        // polyline, whose chords deviate by < 1e-4 mm from the arcs).
+        if s_mm > s1002::S_FLANGE_BACK_MM + 1e-6 {
+            assert!(
+                (r_mm - spec.tread_radius_mm(s_mm)).abs() < 1e-3,
+                "node {i} at S {s_mm} r {r_mm}"
+            );
+        }
+    }
+    for &i in mesh.node_set("hub_bore").expect("hub bore") {
+        let [x, _, z] = mesh.nodes[i];
+        assert!((x.hypot(z) * 1e3 - spec.hub.bore_radius_mm).abs() < 1e-6);
+    }
+    // Axle ends: flat faces at the first and last axle profile stations.
+    let axle = spec.axle.as_ref().expect("axle");
+    for (set, s) in [
+        ("axle_inner_end", axle.profile_mm[0][0]),
+        (
+            "axle_outer_end",
+            axle.profile_mm[axle.profile_mm.len() - 1][0],
+        ),
+    ] {
+        let ids = mesh.node_set(set).expect(set);
+        assert!(!ids.is_empty());
+        assert!(
+            ids.iter()
+                .all(|&i| (mesh.nodes[i][1] * 1e3 - s).abs() < 1e-6),
+            "{set}"
+        );
+    }
+    // The tread surface faces point outwards (away from the axis).
+    for f in &mesh.surfaces["tread"] {
+        let p: Vec<[f64; 3]> = f.iter().map(|&i| mesh.nodes[i]).collect();
+        let n = squeal::mesh::hex::face_normal(p[0], p[1], p[2], p[3]);
+        let c = [
+            0.25 * (p[0][0] + p[1][0] + p[2][0] + p[3][0]),
+            0.0,
+            0.25 * (p[0][2] + p[1][2] + p[2][2] + p[3][2]),
+        ];
+        assert!(
+            n[0] * c[0] + n[2] * c[2] > 0.0 || n[1].abs() > (n[0].hypot(n[2])),
+            "inward tread face"
+        );
+    }
+}
+
+#[test]
+fn every_element_is_valid_over_many_parameter_sets() {
+    let base = default_wheel();
+    let mut count = 0;
+    for shape in [WebShape::Straight, WebShape::Curved] {
+        for (size, n, n_inner) in [(20.0, 32usize, 16usize), (12.0, 96, 40), (6.0, 160, 80)] {
+            for axle in [true, false] {
+                let mut spec = base.clone();
+                spec.web.shape = shape;
+                spec.mesh.element_size_mm = size;
+                spec.mesh.circumferential_divisions = n;
+                spec.mesh.inner_circumferential_divisions = n_inner;
+                if !axle {
+                    spec.axle = None;
+                }
+                spec.validate("test").expect("valid");
+                let mesh = wheel_mesh(&spec, None, &WheelPlacement::default());
+                let q = mesh.quality(6000.0);
+                assert_eq!(q.inverted_elements, 0, "{shape:?} {size} {n} axle {axle}");
+                assert!(
+                    q.min_scaled_jacobian > 0.2,
+                    "{shape:?} {size} {n}: {}",
+                    q.min_scaled_jacobian
+                );
+                assert!(mesh.node_sets.values().all(|s| !s.is_empty()));
+                count += 1;
+            }
+        }
+    }
+    assert_eq!(count, 12);
+}
+
+/// Issue "foundation", item 8: with the fine tread band, the smallest element of the wheel is
+/// the band's, so the critical time step is that of the intended contact-zone size (within
+/// 20 %), even though the hub radius is ~0.2 of the tread radius.
+#[test]
+fn tread_band_keeps_the_time_step_of_the_contact_zone() {
+    let spec = default_wheel();
+    let c_l = dilatational_wave_speed(
+        spec.material.youngs_modulus_pa,
+        spec.material.poisson_ratio,
+        spec.material.density_kg_per_m3,
+    );
+    for band_mm in [3.0, 2.0] {
+        let band = TreadBandSpec {
+            element_size_mm: band_mm,
+            arc_centre_deg: 0.0,
+            arc_width_deg: 30.0,
+            growth_ratio: 1.15,
+        };
+        let mesh = wheel_mesh(&spec, Some(&band), &WheelPlacement::default());
+        let q = mesh.quality(c_l);
+        let intended = band_mm * 1e-3 / c_l;
+        let ratio = q.critical_time_step_s / intended;
+        eprintln!(
+            "band {band_mm} mm: dt {:.1} ns vs intended {:.1} ns (ratio {ratio:.3})",
+            q.critical_time_step_s * 1e9,
+            intended * 1e9
+        );
+        assert!((0.8..=1.2).contains(&ratio), "ratio {ratio}");
+        assert_eq!(
+            mesh.material[q.min_characteristic_length_element],
+            material::TREAD_BAND
+        );
+        // Every band interface node is tied, weights form a partition of unity, and the
+        // geometric offsets are chord sagittas (well under a body element size).
+        let tie = mesh
+            .ties
+            .iter()
+            .find(|t| t.name == "tread_band")
+            .expect("band tie");
+        assert_eq!(
+            tie.pairs.len(),
+            mesh.node_set("band_interface").expect("set").len()
+        );
+        for p in &tie.pairs {
+            assert!((p.weights.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+            assert!(p
+                .weights
+                .iter()
+                .all(|&w| (-1e-12..=1.0 + 1e-12).contains(&w)));
+        }
+        assert!(tie.max_gap_m() < 0.5e-3, "gap {}", tie.max_gap_m());
+        // Fine arc: the band's circumferential spacing at the arc centre is the band size.
+        // One band column near the tape circle (columns are band_mm apart laterally).
+        let tread_nodes: Vec<&[f64; 3]> = mesh
+            .node_set("tread")
+            .expect("tread")
+            .iter()
+            .map(|&i| &mesh.nodes[i])
+            .collect();
+        let column_y = tread_nodes
+            .iter()
+            .map(|p| p[1])
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+            .expect("tread nodes");
+        let arc_nodes: Vec<&&[f64; 3]> = tread_nodes
+            .iter()
+            .filter(|p| (p[1] - column_y).abs() < 1e-9)
+            .collect();
+        let mut angles: Vec<f64> = arc_nodes
+            .iter()
+            .map(|p| p[0].atan2(-p[2]))
+            .filter(|a| a.abs() < 0.1)
+            .collect();
+        angles.sort_by(|a, b| a.total_cmp(b));
+        let spacing_mm = angles
+            .windows(2)
+            .map(|w| (w[1] - w[0]) * 460.0)
+            .fold(0.0, f64::max);
+        assert!(
+            (spacing_mm - band_mm).abs() < 0.1 * band_mm,
+            "arc spacing {spacing_mm}"
+        );
+    }
+}
+
+/// The web-zone tie joins a coarse inner zone to a finer outer zone: hub elements keep a
+/// circumferential size near the tread's instead of shrinking with the radius.
+#[test]
+fn inner_zone_keeps_hub_elements_large() {
+    let spec = default_wheel();
+    let mesh = wheel_mesh(&spec, None, &WheelPlacement::default());
+    let tie = mesh
+        .ties
+        .iter()
+        .find(|t| t.name == "web_zones")
+        .expect("zone tie");
+    assert!(!tie.pairs.is_empty());
+    let bore = mesh.node_set("hub_bore").expect("bore");
+    // Distinct angles around the bore: the inner zone's division count.
+    let mut angles: Vec<i64> = bore
+        .iter()
+        .map(|&i| (mesh.nodes[i][0].atan2(-mesh.nodes[i][2]) * 1e6).round() as i64)
+        .collect();
+    angles.sort_unstable();
+    angles.dedup();
+    assert_eq!(angles.len(), spec.mesh.inner_circumferential_divisions);
+}
