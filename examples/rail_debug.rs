@@ -1,9 +1,10 @@
 fn main() {
-    for h in [1.0, 4.0] {
-        let m = squeal::mesh::rail::rail_section(squeal::mesh::rail::RailSectionSizes {
+    for h in [1.0, 4.0, 8.0] {
+        let m = &squeal::mesh::rail::rail_section(squeal::mesh::rail::RailSectionSizes {
             running_surface_mm: h,
-            body_mm: 4.0f64.max(h),
-        });
+            body_mm: 2.0 * h,
+        })
+        .body;
         println!(
             "h {h}: quads {} area {:.2} min cross {:.3}",
             m.quads.len(),

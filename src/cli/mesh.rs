@@ -103,7 +103,7 @@ pub fn print_parts(mesh: &Mesh, steel_density: f64) {
             "wheel mass {wheel:.1} kg, half-axle mass {axle:.1} kg (steel {steel_density} kg/m^3)"
         );
     }
-    let rail_m = mass_kg(mesh, &[material::RAIL], steel_density);
+    let rail_m = mass_kg(mesh, &[material::RAIL, material::RAIL_BAND], steel_density);
     if rail_m > 0.0 {
         println!("rail mass {rail_m:.1} kg");
     }

@@ -262,11 +262,11 @@ impl WheelSpec {
         self.material.check(&c, "material")?;
         c.within("mesh.element_size_mm", self.mesh.element_size_mm, 0.5, 60.0)?;
         let n = self.mesh.circumferential_divisions;
-        c.require(n >= 8 && n % 8 == 0 && n <= 20000, "mesh.circumferential_divisions", || {
+        c.require(n >= 8 && n.is_multiple_of(8) && n <= 20000, "mesh.circumferential_divisions", || {
             format!("must be a multiple of 8 in [8, 20000] (the axle core is an O-grid with a quarter of them per side), got {n}")
         })?;
         let ni = self.mesh.inner_circumferential_divisions;
-        c.require(ni >= 8 && ni % 8 == 0 && ni <= n, "mesh.inner_circumferential_divisions", || {
+        c.require(ni >= 8 && ni.is_multiple_of(8) && ni <= n, "mesh.inner_circumferential_divisions", || {
             format!("must be a multiple of 8 in [8, mesh.circumferential_divisions = {n}], got {ni}")
         })?;
         c.within(

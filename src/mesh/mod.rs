@@ -31,6 +31,8 @@ pub mod material {
     pub const RAIL: u32 = 4;
     /// Concrete sleeper.
     pub const SLEEPER: u32 = 5;
+    /// Fine running band of the rail crown (rail steel; tied to the rail head).
+    pub const RAIL_BAND: u32 = 6;
 }
 
 /// A hexahedral mesh.
@@ -187,25 +189,32 @@ impl Mesh {
     }
 
     /// Boundary faces (faces used by exactly one element), in outward order, with their owner.
+    /// Faces are matched by their sorted node ids after a sort (no hashing: this runs on
+    /// millions of faces).
     pub fn boundary_faces(&self) -> Vec<([usize; 4], usize)> {
-        let mut count: HashMap<[usize; 4], (u32, [usize; 4], usize)> =
-            HashMap::with_capacity(self.elements.len() * 3);
+        let mut all: Vec<([usize; 4], u32, u8)> = Vec::with_capacity(self.elements.len() * 6);
         for (e, conn) in self.elements.iter().enumerate() {
-            for f in hex::FACES {
-                let face = f.map(|k| conn[k]);
-                let mut sorted = face;
+            for (k, f) in hex::FACES.iter().enumerate() {
+                let mut sorted = f.map(|i| conn[i]);
                 sorted.sort_unstable();
-                count
-                    .entry(sorted)
-                    .and_modify(|v| v.0 += 1)
-                    .or_insert((1, face, e));
+                all.push((sorted, e as u32, k as u8));
             }
         }
-        let mut out: Vec<([usize; 4], usize)> = count
-            .into_values()
-            .filter(|v| v.0 == 1)
-            .map(|v| (v.1, v.2))
-            .collect();
+        all.sort_unstable();
+        let mut out = Vec::new();
+        let mut i = 0;
+        while i < all.len() {
+            let mut j = i + 1;
+            while j < all.len() && all[j].0 == all[i].0 {
+                j += 1;
+            }
+            if j == i + 1 {
+                let (_, e, k) = all[i];
+                let conn = self.elements[e as usize];
+                out.push((hex::FACES[k as usize].map(|n| conn[n]), e as usize));
+            }
+            i = j;
+        }
         out.sort_unstable_by_key(|v| (v.1, v.0));
         out
     }

@@ -24,6 +24,9 @@ pub struct RailSectionSizes {
 /// Half-width of the finely meshed crown band (mm): wheel contact on the paper's cases stays
 /// well inside it (patch semi-axis ~5 mm, lateral shifts of a few mm).
 pub const CROWN_BAND_HALF_WIDTH_MM: f64 = 15.0;
+/// With a tied running band the band covers the whole crown (R300 and R80 arcs end at
+/// |y| = 24.86 mm), which also balances the head O-grid's sides.
+pub const BANDED_CROWN_HALF_WIDTH_MM: f64 = 24.5;
 const HEAD_CORE_HALF_WIDTH_MM: f64 = 20.0;
 const HEAD_CORE_BOTTOM_Z_MM: f64 = -29.0;
 const HEAD_CORE_TOP_Z_MM: f64 = -10.0;
@@ -58,10 +61,34 @@ fn mirrored(p: &Polyline) -> Polyline {
     )
 }
 
-/// Build the rail section mesh. Tags: `running_surface` (crown and gauge-corner arcs),
-/// `foot_bottom` (bottom face of the foot).
-pub fn rail_section(sizes: RailSectionSizes) -> SectionMesh {
+/// The meshed rail section: the body and, when the running surface is finer than the body,
+/// a fine running band over the crown (tied to the body by the track builder).
+pub struct RailSection {
+    /// Head, web and foot at the body size. Tags: `running_surface` (contact-capable outline
+    /// nodes: crown when there is no band, gauge corners and side faces), `foot_bottom`, and with
+    /// a band `band_interface_body`.
+    pub body: SectionMesh,
+    /// Running band over the crown (tags `running_surface`, `band_interface`).
+    pub band: Option<SectionMesh>,
+}
+
+/// Build the rail section mesh (see [`RailSection`]).
+///
+/// Why a band: in an O-grid the core's cells are as many as the outline nodes of the opposite
+/// sides, so a crown meshed at the running-surface size would leave core cells about half that
+/// size and halve the explicit time step. As for the wheel tread, the fine crown layer is meshed
+/// on its own and tied; the head keeps the body size.
+pub fn rail_section(sizes: RailSectionSizes) -> RailSection {
     let segs = rail54e1::left_half_segments();
+    let h_fine = sizes.running_surface_mm;
+    let h_body = sizes.body_mm.max(h_fine);
+    // A band pays off once the body is clearly coarser than the running surface.
+    let banded = h_body >= 1.5 * h_fine;
+    let crown_half = if banded {
+        BANDED_CROWN_HALF_WIDTH_MM
+    } else {
+        CROWN_BAND_HALF_WIDTH_MM
+    };
     let chain = Polyline::new(sample_chain(&segs, 0.01));
     let arc_mid = |seg: &Segment| seg.point_at(0.5);
     // Key points on the left half (indices follow rail54e1::left_half_segments).
@@ -70,8 +97,8 @@ pub fn rail_section(sizes: RailSectionSizes) -> SectionMesh {
     // belong to sides 1 and 3, which are coarser. This keeps the core cells (whose count is tied
     // to the fine side's) at least one running-surface element wide.
     let p_side_top = [
-        -CROWN_BAND_HALF_WIDTH_MM,
-        rail54e1::top_surface_z_mm(-CROWN_BAND_HALF_WIDTH_MM).unwrap_or(0.0),
+        -crown_half,
+        rail54e1::top_surface_z_mm(-crown_half).unwrap_or(0.0),
     ];
     let p_head_corner = arc_mid(&segs[4]);
     let head_junction = {
@@ -100,8 +127,7 @@ pub fn rail_section(sizes: RailSectionSizes) -> SectionMesh {
     let s_edge_top = chain.length_at_nearest(segs[14].start());
     let s_edge_bottom = chain.length_at_nearest(segs[14].end());
 
-    let h_rs = sizes.running_surface_mm;
-    let h_body = sizes.body_mm.max(h_rs);
+    let h_rs = if banded { h_body } else { h_fine };
     let mut mesh = SectionMesh::new(1e-7);
 
     // ---- Head O-grid.
@@ -116,7 +142,7 @@ pub fn rail_section(sizes: RailSectionSizes) -> SectionMesh {
     // Side 0 (underside, fillets, junction) needs enough nodes for its chords to follow the
     // concave R8/R22 fillets (at least 3 per half); side 2 (crown band) gets the same count,
     // at least the running-surface resolution.
-    let n_under = ((left_under.length() / h_body).ceil() as usize).max(3);
+    let n_under = ((left_under.length() / (1.5 * h_body)).ceil() as usize).max(3);
     let n_junction = ((junction.length() / h_body).round() as usize).max(2);
     let n_fine = ((side2.length() / h_rs).ceil() as usize).max(4);
     let n_under = n_under.max((n_fine.saturating_sub(n_junction)).div_ceil(2));
@@ -153,8 +179,8 @@ pub fn rail_section(sizes: RailSectionSizes) -> SectionMesh {
             [HEAD_CORE_HALF_WIDTH_MM, HEAD_CORE_BOTTOM_Z_MM],
             // Top corners straight below the crown band ends: the core's top cells are then as
             // wide as the crown band's elements.
-            [CROWN_BAND_HALF_WIDTH_MM, HEAD_CORE_TOP_Z_MM],
-            [-CROWN_BAND_HALF_WIDTH_MM, HEAD_CORE_TOP_Z_MM],
+            [crown_half, HEAD_CORE_TOP_Z_MM],
+            [-crown_half, HEAD_CORE_TOP_Z_MM],
         ],
         side_fractions: [
             f0,
@@ -167,17 +193,54 @@ pub fn rail_section(sizes: RailSectionSizes) -> SectionMesh {
         ring_fractions: [
             distribute::uniform(0.0, 1.0, rows),
             distribute::uniform(0.0, 1.0, rows),
-            geometric_fractions(rows, ratio),
+            if banded {
+                distribute::uniform(0.0, 1.0, rows)
+            } else {
+                geometric_fractions(rows, ratio)
+            },
             distribute::uniform(0.0, 1.0, rows),
         ],
     };
-    let og = head.mesh(&mut mesh, RAIL_PART, |_, _, _| false);
+    let og = head.mesh(&mut mesh, RAIL_PART, |side, _, row| {
+        banded && side == 2 && row == 0
+    });
     let a2 = og.side_start[2];
     let a3 = og.side_start[3];
-    // Running surface: crown, R80 and R13 arcs plus the side faces (gauge faces).
+    // Running surface: crown, R80 and R13 arcs plus the side faces (gauge faces); with a band
+    // the crown's outline nodes are the band's.
     let (a1, a0_end) = (og.side_start[1], og.ring.len());
-    mesh.tag("running_surface", (a1..a0_end).map(|i| og.ring[i][0]));
-    let _ = (a2, a3);
+    let body_running: Vec<usize> = (a1..a0_end)
+        .filter(|&i| !banded || i <= a2 || i >= a3)
+        .map(|i| og.ring[i][0])
+        .collect();
+    mesh.tag("running_surface", body_running);
+    let band = banded.then(|| {
+        let mut iface: Vec<usize> = (a2..=a3).map(|i| og.ring[i][1]).collect();
+        iface.extend([og.ring[a2][0], og.ring[a3][0]]);
+        mesh.tag("band_interface_body", iface);
+        let s_band = head.ring_fractions[2][1];
+        let n_t = ((head.sides[2].length() / h_fine).ceil() as usize).max(2);
+        let (o, c) = head.outline_and_core(2, 0.5);
+        let depth = s_band * (o[0] - c[0]).hypot(o[1] - c[1]);
+        let n_rows = ((depth / h_fine).round() as usize).max(1);
+        let grid: Vec<Vec<P2>> = (0..=n_t)
+            .map(|i| {
+                (0..=n_rows)
+                    .map(|k| {
+                        head.point(2, i as f64 / n_t as f64, s_band * k as f64 / n_rows as f64)
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut band = SectionMesh::new(1e-7);
+        let ids = band.add_grid(&grid, RAIL_BAND_PART);
+        band.tag("running_surface", ids.iter().map(|col| col[0]));
+        let mut iface: Vec<usize> = ids.iter().map(|col| col[n_rows]).collect();
+        iface.extend(ids[0].iter().copied());
+        iface.extend(ids[n_t].iter().copied());
+        band.tag("band_interface", iface);
+        band
+    });
     let junction_nodes: Vec<P2> = (0..=n_junction)
         .map(|i| og.ring[og.side_start[0] + n_under + i][0])
         .map(|id| mesh.nodes[id])
@@ -259,9 +322,14 @@ pub fn rail_section(sizes: RailSectionSizes) -> SectionMesh {
     let web_right = web_right_poly.sample(&distribute::uniform(0.0, 1.0, n_web_rows));
     let web_grid = coons_patch(&foot_junction_nodes, &junction_nodes, &web_left, &web_right);
     mesh.add_grid(&web_grid, RAIL_PART);
+    mesh.remove_unused_nodes();
+    // Smooth the body; nodes on the band interface stay put (they are boundary nodes of the
+    // body once the band's cells are left out).
     mesh.smooth(20);
-    mesh
+    RailSection { body: mesh, band }
 }
 
 /// Part id used in rail sections.
 pub const RAIL_PART: u32 = super::material::RAIL;
+/// Part id of the running band.
+pub const RAIL_BAND_PART: u32 = super::material::RAIL_BAND;

@@ -195,6 +195,43 @@ impl SectionMesh {
         }
     }
 
+    /// Drop nodes that no quad uses (e.g. outline nodes of cells left out for a band),
+    /// renumbering quads and tags.
+    pub fn remove_unused_nodes(&mut self) {
+        let mut used = vec![false; self.nodes.len()];
+        for q in &self.quads {
+            for &i in q {
+                used[i] = true;
+            }
+        }
+        let mut new_id = vec![usize::MAX; self.nodes.len()];
+        let mut kept = Vec::new();
+        for (i, p) in self.nodes.iter().enumerate() {
+            if used[i] {
+                new_id[i] = kept.len();
+                kept.push(*p);
+            }
+        }
+        self.nodes = kept;
+        for q in &mut self.quads {
+            *q = q.map(|i| new_id[i]);
+        }
+        for ids in self.tags.values_mut() {
+            *ids = ids
+                .iter()
+                .filter(|&&i| used[i])
+                .map(|&i| new_id[i])
+                .collect();
+        }
+        self.buckets.clear();
+        let nodes = std::mem::take(&mut self.nodes);
+        for (i, p) in nodes.iter().enumerate() {
+            let key = self.bucket(*p);
+            self.buckets.entry(key).or_default().push(i);
+        }
+        self.nodes = nodes;
+    }
+
     /// Total area.
     pub fn area(&self) -> f64 {
         self.quads.iter().map(|q| self.signed_area(*q)).sum()
@@ -419,8 +456,8 @@ impl OGrid {
         let mut ring: Vec<Vec<usize>> = Vec::new();
         let mut side_start = [0usize; 4];
         let mut cell_owner: Vec<(usize, usize)> = Vec::new();
-        for side in 0..4 {
-            side_start[side] = ring.len();
+        for (side, start) in side_start.iter_mut().enumerate() {
+            *start = ring.len();
             let fr = &self.side_fractions[side];
             for (idx, &t) in fr.iter().enumerate().take(fr.len() - 1) {
                 let column: Vec<usize> = self.ring_fractions[side]

@@ -101,9 +101,12 @@ pub fn project_on_face(face: &[P3; 4], x: P3) -> (f64, f64, [f64; 4], f64) {
         }
         let dxi = (a11 * g0 - a01 * g1) / det;
         let deta = (a00 * g1 - a01 * g0) / det;
-        xi = (xi + dxi).clamp(-1.0, 1.0);
-        eta = (eta + deta).clamp(-1.0, 1.0);
-        if dxi.abs() + deta.abs() < 1e-13 {
+        let (xi_new, eta_new) = ((xi + dxi).clamp(-1.0, 1.0), (eta + deta).clamp(-1.0, 1.0));
+        // Stop on the actual (clamped) step: a point beyond the face edge converges to the edge.
+        let moved = (xi_new - xi).abs() + (eta_new - eta).abs();
+        xi = xi_new;
+        eta = eta_new;
+        if moved < 1e-12 {
             break;
         }
     }
@@ -125,17 +128,19 @@ pub fn build(
             pairs: vec![],
         };
     }
-    // Bucket faces by their bounding boxes on a grid of the largest face size.
-    let mut cell: f64 = 0.0;
-    for f in master_faces {
-        for k in 0..4 {
-            let (a, b) = (nodes[f[k]], nodes[f[(k + 2) % 4]]);
-            cell = cell.max(
-                ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt(),
-            );
-        }
-    }
-    let cell = cell.max(1e-9);
+    // Bucket each face into every cell its bounding box (grown by a margin for the geometric
+    // offsets a tie bridges) overlaps; the cell size is the median face size, so graded meshes
+    // (1 mm faces beside 100 mm ones) keep buckets short. A slave then looks in its own cell only.
+    let mut sizes: Vec<f64> = master_faces
+        .iter()
+        .map(|f| {
+            let (a, b) = (nodes[f[0]], nodes[f[2]]);
+            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+        })
+        .collect();
+    sizes.sort_by(|a, b| a.total_cmp(b));
+    let cell = sizes[sizes.len() / 2].max(1e-9);
+    let margin = 0.25 * cell;
     let key = |p: P3| {
         (
             (p[0] / cell).floor() as i64,
@@ -145,32 +150,46 @@ pub fn build(
     };
     let mut buckets: HashMap<(i64, i64, i64), Vec<usize>> = HashMap::new();
     for (fi, f) in master_faces.iter().enumerate() {
-        let mut c = [0.0; 3];
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
         for &n in f {
             for d in 0..3 {
-                c[d] += 0.25 * nodes[n][d];
+                lo[d] = lo[d].min(nodes[n][d] - margin);
+                hi[d] = hi[d].max(nodes[n][d] + margin);
             }
         }
-        buckets.entry(key(c)).or_default().push(fi);
+        let (k0, k1) = (key(lo), key(hi));
+        for i in k0.0..=k1.0 {
+            for j in k0.1..=k1.1 {
+                for k in k0.2..=k1.2 {
+                    buckets.entry((i, j, k)).or_default().push(fi);
+                }
+            }
+        }
     }
     let mut pairs = Vec::with_capacity(slaves.len());
     for &s in slaves {
         let x = nodes[s];
-        let (bx, by, bz) = key(x);
         let mut best: Option<(f64, usize, [f64; 4])> = None;
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    if let Some(list) = buckets.get(&(bx + dx, by + dy, bz + dz)) {
-                        for &fi in list {
-                            let f = master_faces[fi];
-                            let coords = f.map(|n| nodes[n]);
-                            let (_, _, w, d) = project_on_face(&coords, x);
-                            if best.is_none_or(|b| d < b.0) {
-                                best = Some((d, fi, w));
-                            }
-                        }
-                    }
+        if let Some(list) = buckets.get(&key(x)) {
+            for &fi in list {
+                let coords = master_faces[fi].map(|n| nodes[n]);
+                // Cheap rejection: the point must be within the face's grown bounding box.
+                let outside = (0..3).any(|d| {
+                    let lo = coords.iter().map(|c| c[d]).fold(f64::INFINITY, f64::min) - margin;
+                    let hi = coords
+                        .iter()
+                        .map(|c| c[d])
+                        .fold(f64::NEG_INFINITY, f64::max)
+                        + margin;
+                    x[d] < lo || x[d] > hi
+                });
+                if outside {
+                    continue;
+                }
+                let (_, _, w, d) = project_on_face(&coords, x);
+                if best.is_none_or(|b| d < b.0) {
+                    best = Some((d, fi, w));
                 }
             }
         }

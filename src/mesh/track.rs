@@ -66,19 +66,29 @@ pub fn place_rail_point(layout: &TrackLayout, y_mm: f64, z_mm: f64) -> [f64; 2] 
     ]
 }
 
-/// Stations along x.
+/// Stations along x of the running band (or of the whole rail when there is no band): the
+/// zone element length in the solution zone, graded to the far size.
 pub fn rail_stations(layout: &TrackLayout) -> Vec<f64> {
+    stations_with_zone_size(layout, layout.zone_element_length_m)
+}
+
+/// Stations of the rail body under a running band: in the zone, no finer than the body's
+/// section size.
+pub fn rail_body_stations(layout: &TrackLayout) -> Vec<f64> {
+    stations_with_zone_size(
+        layout,
+        layout
+            .zone_element_length_m
+            .max(1e-3 * layout.section_element_mm),
+    )
+}
+
+fn stations_with_zone_size(layout: &TrackLayout, zone_size_m: f64) -> Vec<f64> {
     let z0 = layout.solution_zone_start_m;
     let z1 = z0 + layout.solution_zone_length_m;
     // Cap the far size so every rail pad holds at least two stations.
     let coarse = layout.far_element_length_m.min(0.5 * layout.pad_length_m);
-    let size = distribute::graded_size(
-        z0,
-        z1,
-        layout.zone_element_length_m,
-        coarse,
-        layout.growth_ratio,
-    );
+    let size = distribute::graded_size(z0, z1, zone_size_m, coarse, layout.growth_ratio);
     distribute::by_size_function(layout.length_m, size, 2)
 }
 
@@ -146,8 +156,44 @@ pub fn track_mesh(layout: &TrackLayout) -> Mesh {
         running_surface_mm: layout.running_surface_element_mm,
         body_mm: layout.section_element_mm,
     });
-    let stations = rail_stations(layout);
-    let mut mesh = extrude(&section, &stations, layout);
+    let mut mesh = match &section.band {
+        None => extrude(&section.body, &rail_stations(layout), layout),
+        Some(band) => {
+            let mut body = extrude(&section.body, &rail_body_stations(layout), layout);
+            let band_mesh = extrude(band, &rail_stations(layout), layout);
+            let offset = body.nodes.len();
+            body.append(band_mesh);
+            body.orient_elements();
+            let slaves = body
+                .node_sets
+                .remove("rail_band_interface")
+                .unwrap_or_default();
+            let iface = body
+                .node_sets
+                .remove("rail_band_interface_body")
+                .unwrap_or_default();
+            let mut member = vec![false; body.nodes.len()];
+            for &i in &iface {
+                member[i] = true;
+            }
+            let masters: Vec<[usize; 4]> = body
+                .boundary_faces()
+                .into_iter()
+                .filter(|(f, e)| {
+                    body.material[*e] == material::RAIL
+                        && f.iter().all(|&i| i < offset && member[i])
+                })
+                .map(|(f, _)| f)
+                .collect();
+            body.ties.push(super::tie::build(
+                "rail_running_band",
+                &body.nodes,
+                &slaves,
+                &masters,
+            ));
+            body
+        }
+    };
     mesh.orient_elements();
     // Lowest point of the inclined rail foot: the sleeper tops sit one pad thickness below it.
     let foot = mesh.node_set("rail_foot_bottom").unwrap_or(&[]).to_vec();
@@ -182,7 +228,7 @@ pub fn track_mesh(layout: &TrackLayout) -> Mesh {
         mesh.add_node_set("sleeper_bottoms", bottoms);
     }
     mesh.add_node_set("rail_pads", pads_all);
-    mesh.surface_from_node_set("rail_top", "rail_running_surface", Some(material::RAIL));
+    mesh.surface_from_node_set("rail_top", "rail_running_surface", None);
     mesh
 }
 

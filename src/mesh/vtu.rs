@@ -47,7 +47,7 @@ pub fn base64_decode(text: &str) -> Option<Vec<u8>> {
         val[c as usize] = i as u8;
     }
     let clean: Vec<u8> = text.bytes().filter(|c| !c.is_ascii_whitespace()).collect();
-    if clean.len() % 4 != 0 {
+    if !clean.len().is_multiple_of(4) {
         return None;
     }
     let mut out = Vec::with_capacity(clean.len() / 4 * 3);

@@ -144,7 +144,14 @@ pub fn mesh_section(spec: &WheelSpec, band: Option<&TreadBandSpec>) -> WheelSect
     // Bottom stations of the whole rim, with the web junction and the flange root as nodes;
     // under the flange they are denser so the O-grid's bottom matches its profile side.
     let h_under_flange = h.min((root - s_fb) / (flange_side2.length() / h).ceil());
-    let band_end = s1002::S_CHAMFER_START_MM;
+    // The band stops short of the field-side chamfer; the last body column, under the chamfer,
+    // is at least one band element wide so that it does not undercut the band's time step.
+    let band_end = match band {
+        Some(b) => {
+            s1002::S_CHAMFER_START_MM.min(s_ff - b.element_size_mm.max(s1002::FIELD_CHAMFER_MM))
+        }
+        None => s_ff,
+    };
     let mut breaks = vec![s_fb, web_left, root, web_right, band_end, s_ff];
     breaks.sort_by(|a, b| a.total_cmp(b));
     breaks.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
@@ -395,12 +402,12 @@ pub fn mesh_section(spec: &WheelSpec, band: Option<&TreadBandSpec>) -> WheelSect
         m
     });
 
-    // Zones: outer = rim + upper web; inner = hub + lower web + axle.
+    // Zones, by the order the quads were added: rim [0, rim_end), hub [rim_end, hub_end),
+    // upper web [hub_end, inner_start), then lower web and axle. Outer = rim + upper web;
+    // inner = hub + lower web + axle.
+    debug_assert_eq!(outer_quads_end, hub_quads_end);
     let quad_in_inner_zone: Vec<bool> = (0..body.quads.len())
-        .map(|q| {
-            !(q < rim_quads_end || (q >= outer_quads_end && q < inner_quads_start))
-                || (q >= rim_quads_end && q < hub_quads_end)
-        })
+        .map(|q| q >= inner_quads_start || (rim_quads_end..hub_quads_end).contains(&q))
         .collect();
     WheelSection {
         body,
