@@ -150,3 +150,37 @@ pub fn flip(conn: [usize; 8]) -> [usize; 8] {
         conn[4], conn[5], conn[6], conn[7], conn[0], conn[1], conn[2], conn[3],
     ]
 }
+
+/// The hexahedron swept by a quad (counter-clockwise nodes `quad`) from layer `k` to `k + 1`,
+/// where `node(id, k)` numbers the copy of section node `id` in layer `k` (revolve, extrude).
+pub fn swept(quad: [usize; 4], k: usize, node: impl Fn(usize, usize) -> usize) -> [usize; 8] {
+    [
+        node(quad[0], k),
+        node(quad[1], k),
+        node(quad[2], k),
+        node(quad[3], k),
+        node(quad[0], k + 1),
+        node(quad[1], k + 1),
+        node(quad[2], k + 1),
+        node(quad[3], k + 1),
+    ]
+}
+
+/// Cell `(i, j, l)` of a structured block whose node `(i, j, l)` has id `id(i, j, l)`.
+pub fn structured(
+    i: usize,
+    j: usize,
+    l: usize,
+    id: impl Fn(usize, usize, usize) -> usize,
+) -> [usize; 8] {
+    [
+        id(i, j, l),
+        id(i + 1, j, l),
+        id(i + 1, j + 1, l),
+        id(i, j + 1, l),
+        id(i, j, l + 1),
+        id(i + 1, j, l + 1),
+        id(i + 1, j + 1, l + 1),
+        id(i, j + 1, l + 1),
+    ]
+}

@@ -106,16 +106,7 @@ fn extrude(section: &SectionMesh, stations: &[f64], layout: &TrackLayout) -> Mes
     mesh.elements.reserve(section.quads.len() * (ns - 1));
     for (qi, q) in section.quads.iter().enumerate() {
         for k in 0..ns - 1 {
-            mesh.elements.push([
-                node(q[0], k),
-                node(q[1], k),
-                node(q[2], k),
-                node(q[3], k),
-                node(q[0], k + 1),
-                node(q[1], k + 1),
-                node(q[2], k + 1),
-                node(q[3], k + 1),
-            ]);
+            mesh.elements.push(super::hex::swept(*q, k, node));
             mesh.material.push(section.quad_part[qi]);
         }
     }
@@ -253,16 +244,7 @@ fn sleeper_block(layout: &TrackLayout, x_centre: f64, top_z: f64) -> Mesh {
     for i in 0..nx {
         for j in 0..ny {
             for l in 0..nz {
-                mesh.elements.push([
-                    id(i, j, l),
-                    id(i + 1, j, l),
-                    id(i + 1, j + 1, l),
-                    id(i, j + 1, l),
-                    id(i, j, l + 1),
-                    id(i + 1, j, l + 1),
-                    id(i + 1, j + 1, l + 1),
-                    id(i, j + 1, l + 1),
-                ]);
+                mesh.elements.push(super::hex::structured(i, j, l, id));
                 mesh.material.push(material::SLEEPER);
             }
         }

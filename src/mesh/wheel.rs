@@ -596,16 +596,7 @@ fn revolve(
             continue;
         }
         for j in 0..n {
-            mesh.elements.push([
-                node(quad[0], j),
-                node(quad[1], j),
-                node(quad[2], j),
-                node(quad[3], j),
-                node(quad[0], j + 1),
-                node(quad[1], j + 1),
-                node(quad[2], j + 1),
-                node(quad[3], j + 1),
-            ]);
+            mesh.elements.push(super::hex::swept(*quad, j, node));
             mesh.material.push(section.quad_part[q]);
         }
     }
@@ -670,16 +661,8 @@ fn add_axle_core(
     for st in 0..stations_mm.len() - 1 {
         for i in 0..q {
             for k in 0..q {
-                mesh.elements.push([
-                    id(st, i, k),
-                    id(st, i + 1, k),
-                    id(st, i + 1, k + 1),
-                    id(st, i, k + 1),
-                    id(st + 1, i, k),
-                    id(st + 1, i + 1, k),
-                    id(st + 1, i + 1, k + 1),
-                    id(st + 1, i, k + 1),
-                ]);
+                mesh.elements
+                    .push(super::hex::structured(st, i, k, |a, b, c| id(a, b, c)));
                 mesh.material.push(material::AXLE);
             }
         }
