@@ -8,6 +8,7 @@ pub mod error;
 pub mod geometry;
 pub mod input;
 pub mod mesh;
+pub mod report;
 pub mod scenario;
 pub mod signal;
 pub use error::{Error, Result};

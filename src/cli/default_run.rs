@@ -41,6 +41,7 @@ pub fn run(out_dir: &Path) -> Result<()> {
     write_json(&out_dir.join("wheel_quality.json"), &wheel_q)?;
     write_json(&out_dir.join("model_quality.json"), &model_q)?;
 
+    write_section_charts(&loaded, out_dir)?;
     use squeal::mesh::material;
     let wheel_mass = mass_kg(&wheel, &[material::WHEEL], steel.density_kg_per_m3);
     let axle_mass = mass_kg(&wheel, &[material::AXLE], steel.density_kg_per_m3);
@@ -77,10 +78,97 @@ pub fn run(out_dir: &Path) -> Result<()> {
         );
     }
     let _ = writeln!(md, "\n```\n{}\n```\n", model_q.summary());
-    let _ = writeln!(md, "Files: `wheel.vtu`, `model.vtu` (open in ParaView; cell field `material`, point fields `set_<name>`), `*_quality.json`.");
+    let _ = writeln!(md, "## Sections\n");
+    let _ = writeln!(md, "![S1002 profile](s1002.png)\n\n![wheel section mesh](wheel_section.png) ![rail section mesh](rail_section.png)\n");
+    let _ = writeln!(md, "Files: `wheel.vtu`, `model.vtu` (open in ParaView; cell field `material`, point fields `set_<name>`), `*_quality.json`, charts as PNG and SVG.");
     let index = out_dir.join("index.md");
     std::fs::write(&index, md).map_err(|e| Error::io(&index, e))?;
     println!("{}", model_q.summary());
     println!("report: {}", index.display());
     Ok(())
+}
+
+/// Charts of the S1002 profile and of the wheel and rail cross-section meshes.
+fn write_section_charts(loaded: &LoadedScenario, out_dir: &Path) -> Result<()> {
+    use squeal::geometry::s1002;
+    use squeal::mesh::rail::{rail_section, RailSectionSizes};
+    use squeal::mesh::wheel::mesh_section;
+    use squeal::report::chart::{quad_mesh_series, write, LineChart, Series};
+
+    let table = s1002::point_table(0.1);
+    let profile = LineChart {
+        title: "S1002 wheel profile (EN 13715)".into(),
+        x_label: "lateral position S from the tape circle (mm)".into(),
+        y_label: "radius increment F (mm)".into(),
+        series: vec![Series::line(
+            "S1002 (flange at S < 0)",
+            table.iter().map(|p| p.0).collect(),
+            table.iter().map(|p| p.1).collect(),
+            0,
+        )],
+        ..Default::default()
+    };
+    write(
+        &profile,
+        Some(&out_dir.join("s1002.png")),
+        Some(&out_dir.join("s1002.svg")),
+    )?;
+
+    let section = mesh_section(&loaded.wheel, loaded.scenario.tread_band.as_ref());
+    let mut series = quad_mesh_series(&section.body.nodes, &section.body.quads, 0, "wheel body");
+    if let Some(band) = &section.band {
+        series.extend(quad_mesh_series(
+            &band.nodes,
+            &band.quads,
+            1,
+            "tread band (tied)",
+        ));
+    }
+    let wheel = LineChart {
+        title: format!("Wheel section mesh: {}", loaded.wheel.name),
+        x_label: "S (mm)".into(),
+        y_label: "radius (mm)".into(),
+        series,
+        x_range: Some((-150.0, 100.0)),
+        y_range: Some((0.0, 500.0)),
+        size_px: Some((620, 1180)),
+        stroke_width: Some(1),
+        ..Default::default()
+    };
+    write(
+        &wheel,
+        Some(&out_dir.join("wheel_section.png")),
+        Some(&out_dir.join("wheel_section.svg")),
+    )?;
+
+    let t = &loaded.scenario.track.rail;
+    let rail = rail_section(RailSectionSizes {
+        running_surface_mm: t.running_surface_element_mm,
+        body_mm: t.section_element_mm,
+    });
+    let mut series = quad_mesh_series(&rail.body.nodes, &rail.body.quads, 0, "rail body");
+    if let Some(band) = &rail.band {
+        series.extend(quad_mesh_series(
+            &band.nodes,
+            &band.quads,
+            1,
+            "running band (tied)",
+        ));
+    }
+    let rail_chart = LineChart {
+        title: "54E1 rail section mesh (upright)".into(),
+        x_label: "y (mm)".into(),
+        y_label: "z (mm)".into(),
+        series,
+        x_range: Some((-80.0, 80.0)),
+        y_range: Some((-165.0, 10.0)),
+        size_px: Some((900, 1000)),
+        stroke_width: Some(1),
+        ..Default::default()
+    };
+    write(
+        &rail_chart,
+        Some(&out_dir.join("rail_section.png")),
+        Some(&out_dir.join("rail_section.svg")),
+    )
 }

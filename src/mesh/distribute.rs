@@ -84,3 +84,9 @@ pub fn graded_size(
         (fine + (growth - 1.0) * distance).min(coarse).max(fine)
     }
 }
+
+/// Number of intervals for `length` such that each is at least 0.9 x `size` (at least 1):
+/// used where elements must not undercut a size that sets the explicit time step.
+pub fn count_at_least(length: f64, size: f64) -> usize {
+    ((length / (0.9 * size)).floor() as usize).max(1)
+}

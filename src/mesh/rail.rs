@@ -150,8 +150,14 @@ pub fn rail_section(sizes: RailSectionSizes) -> RailSection {
     // Sides 1 and 3 (gauge corner and side face) are limited so that the core's vertical cells,
     // whose count they set, stay >= 0.6 h_rs; the chords then follow the R13 arc less closely on
     // coarse meshes (measured area loss 0.5 % at 6 mm, see tests/track_mesh.rs).
-    let n13 = ((side3.length() / (1.5 * h_rs)).ceil() as usize)
-        .min(((HEAD_CORE_TOP_Z_MM - HEAD_CORE_BOTTOM_Z_MM) / (0.6 * h_rs)).floor() as usize)
+    // With a band the limit is the contact size (the band's), not the body's.
+    let (side_size, core_cell_min) = if banded {
+        (h_body, 0.9 * h_fine)
+    } else {
+        (1.5 * h_fine, 0.6 * h_fine)
+    };
+    let n13 = ((side3.length() / side_size).ceil() as usize)
+        .min(((HEAD_CORE_TOP_Z_MM - HEAD_CORE_BOTTOM_Z_MM) / core_cell_min).floor() as usize)
         .max(2);
     let ring_depth_mm = -HEAD_CORE_TOP_Z_MM;
     let ratio = 1.25f64;
@@ -219,10 +225,10 @@ pub fn rail_section(sizes: RailSectionSizes) -> RailSection {
         iface.extend([og.ring[a2][0], og.ring[a3][0]]);
         mesh.tag("band_interface_body", iface);
         let s_band = head.ring_fractions[2][1];
-        let n_t = ((head.sides[2].length() / h_fine).ceil() as usize).max(2);
+        let n_t = distribute::count_at_least(head.sides[2].length(), h_fine).max(2);
         let (o, c) = head.outline_and_core(2, 0.5);
         let depth = s_band * (o[0] - c[0]).hypot(o[1] - c[1]);
-        let n_rows = ((depth / h_fine).round() as usize).max(1);
+        let n_rows = distribute::count_at_least(depth, h_fine);
         let grid: Vec<Vec<P2>> = (0..=n_t)
             .map(|i| {
                 (0..=n_rows)

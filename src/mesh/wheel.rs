@@ -383,8 +383,10 @@ pub fn mesh_section(spec: &WheelSpec, band: Option<&TreadBandSpec>) -> WheelSect
         let hb = b.element_size_mm;
         let mut m = SectionMesh::new(tol);
         let v_b = row_v[n_rows - band_rows_in_body];
-        let n_axial = (((band_end - root) / hb).ceil() as usize).max(2);
-        let n_band_rows = (((1.0 - v_b) * (r_nom - r_in) / hb).round() as usize).max(1);
+        // Counts rounded down (with 10 % slack) so band elements are never much smaller than
+        // the requested size: the band must set the time step, not undercut it.
+        let n_axial = super::distribute::count_at_least(band_end - root, hb).max(2);
+        let n_band_rows = super::distribute::count_at_least((1.0 - v_b) * (r_nom - r_in), hb);
         let grid: Vec<Vec<[f64; 2]>> = (0..=n_axial)
             .map(|i| {
                 let s = root + (band_end - root) * i as f64 / n_axial as f64;

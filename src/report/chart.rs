@@ -1,0 +1,295 @@
+//! Line and scatter charts written as PNG and SVG.
+//!
+//! Text is drawn with the bundled DejaVu Sans (data/fonts, Bitstream Vera licence) through
+//! plotters' `ab_glyph` backend, so no system font library is needed.
+
+use std::path::Path;
+use std::sync::Once;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::{Error, Result};
+
+static FONT_BYTES: &[u8] = include_bytes!("../../data/fonts/DejaVuSans.ttf");
+static REGISTER: Once = Once::new();
+
+fn register_font() {
+    REGISTER.call_once(|| {
+        // The bundled file is a valid TrueType font; a failure here would be a packaging bug,
+        // and text would then be missing rather than the program failing.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT_BYTES);
+    });
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stroke {
+    /// Solid line.
+    Solid,
+    /// Dotted (dashed) line.
+    Dotted,
+    /// Markers only.
+    Points,
+    /// Solid line with markers.
+    SolidWithPoints,
+}
+
+/// One data series.
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend label (empty: not in the legend).
+    pub label: String,
+    /// x values.
+    pub x: Vec<f64>,
+    /// y values.
+    pub y: Vec<f64>,
+    /// Drawing style.
+    pub stroke: Stroke,
+    /// Colour index into the palette (series with the same index share a colour).
+    pub color: usize,
+}
+
+/// A chart with axes, title, legend.
+#[derive(Clone, Debug, Default)]
+pub struct LineChart {
+    /// Title.
+    pub title: String,
+    /// x-axis label with unit, e.g. "time (ms)".
+    pub x_label: String,
+    /// y-axis label with unit.
+    pub y_label: String,
+    /// Series.
+    pub series: Vec<Series>,
+    /// Logarithmic y axis (for PSDs).
+    pub log_y: bool,
+    /// Fixed x range (default: data range).
+    pub x_range: Option<(f64, f64)>,
+    /// Fixed y range (default: data range with 5 % margin).
+    pub y_range: Option<(f64, f64)>,
+    /// Size in pixels (default 1000 x 620).
+    pub size_px: Option<(u32, u32)>,
+    /// Line width in pixels (default 2).
+    pub stroke_width: Option<u32>,
+}
+
+impl Series {
+    /// A solid line.
+    pub fn line(label: &str, x: Vec<f64>, y: Vec<f64>, color: usize) -> Self {
+        Series {
+            label: label.to_string(),
+            x,
+            y,
+            stroke: Stroke::Solid,
+            color,
+        }
+    }
+}
+
+/// Edges of a quad section mesh as chart series (one per quad, unlabelled), for pictures of
+/// cross-section meshes; `scale` converts the mesh coordinates (e.g. 1.0 for mm).
+pub fn quad_mesh_series(
+    nodes: &[[f64; 2]],
+    quads: &[[usize; 4]],
+    color: usize,
+    label: &str,
+) -> Vec<Series> {
+    let mut out: Vec<Series> = quads
+        .iter()
+        .map(|q| {
+            let idx = [q[0], q[1], q[2], q[3], q[0]];
+            Series {
+                label: String::new(),
+                x: idx.iter().map(|&i| nodes[i][0]).collect(),
+                y: idx.iter().map(|&i| nodes[i][1]).collect(),
+                stroke: Stroke::Solid,
+                color,
+            }
+        })
+        .collect();
+    if let Some(first) = out.first_mut() {
+        first.label = label.to_string();
+    }
+    out
+}
+
+/// Palette (colour-blind friendly, Okabe-Ito).
+pub const PALETTE: [RGBColor; 8] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 0, 0),
+    RGBColor(240, 228, 66),
+];
+
+fn data_range(chart: &LineChart) -> ((f64, f64), (f64, f64)) {
+    let mut xr = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut yr = (f64::INFINITY, f64::NEG_INFINITY);
+    for s in &chart.series {
+        for (&x, &y) in s.x.iter().zip(&s.y) {
+            if !x.is_finite() || !y.is_finite() || (chart.log_y && y <= 0.0) {
+                continue;
+            }
+            xr = (xr.0.min(x), xr.1.max(x));
+            yr = (yr.0.min(y), yr.1.max(y));
+        }
+    }
+    if !xr.0.is_finite() {
+        xr = (0.0, 1.0);
+    }
+    if !yr.0.is_finite() {
+        yr = if chart.log_y {
+            (1e-12, 1.0)
+        } else {
+            (0.0, 1.0)
+        };
+    }
+    if xr.1 <= xr.0 {
+        xr = (xr.0 - 0.5, xr.0 + 0.5);
+    }
+    if yr.1 <= yr.0 {
+        let pad = if yr.0 == 0.0 { 1.0 } else { 0.5 * yr.0.abs() };
+        yr = (yr.0 - pad, yr.0 + pad);
+    }
+    let xr = chart.x_range.unwrap_or(xr);
+    let yr = chart.y_range.unwrap_or_else(|| {
+        if chart.log_y {
+            (yr.0 * 0.8, yr.1 * 1.25)
+        } else {
+            let m = 0.05 * (yr.1 - yr.0);
+            (yr.0 - m, yr.1 + m)
+        }
+    });
+    (xr, yr)
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    chart: &LineChart,
+) -> std::result::Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let ((x0, x1), (y0, y1)) = data_range(chart);
+    let mut builder = ChartBuilder::on(&root);
+    builder
+        .caption(&chart.title, ("sans-serif", 26))
+        .margin(14)
+        .x_label_area_size(52)
+        .y_label_area_size(86);
+    macro_rules! body {
+        ($ctx:expr) => {{
+            let mut ctx = $ctx;
+            ctx.configure_mesh()
+                .x_desc(chart.x_label.as_str())
+                .y_desc(chart.y_label.as_str())
+                .label_style(("sans-serif", 16))
+                .axis_desc_style(("sans-serif", 19))
+                .light_line_style(RGBColor(235, 235, 235))
+                .draw()
+                .map_err(|e| e.to_string())?;
+            for s in &chart.series {
+                let color = PALETTE[s.color % PALETTE.len()];
+                let pts: Vec<(f64, f64)> = s
+                    .x
+                    .iter()
+                    .zip(&s.y)
+                    .map(|(&x, &y)| (x, y))
+                    .filter(|p| p.0.is_finite() && p.1.is_finite() && (!chart.log_y || p.1 > 0.0))
+                    .collect();
+                let style = ShapeStyle {
+                    color: color.to_rgba(),
+                    filled: true,
+                    stroke_width: chart.stroke_width.unwrap_or(2),
+                };
+                let legend_style = style;
+                let labelled = !s.label.is_empty();
+                match s.stroke {
+                    Stroke::Solid | Stroke::SolidWithPoints => {
+                        let drawn = ctx
+                            .draw_series(LineSeries::new(pts.clone(), style))
+                            .map_err(|e| e.to_string())?;
+                        if labelled {
+                            drawn.label(s.label.as_str()).legend(move |(x, y)| {
+                                PathElement::new(vec![(x, y), (x + 24, y)], legend_style)
+                            });
+                        }
+                    }
+                    Stroke::Dotted => {
+                        let drawn = ctx
+                            .draw_series(DashedLineSeries::new(pts.clone(), 5, 5, style))
+                            .map_err(|e| e.to_string())?;
+                        if labelled {
+                            drawn.label(s.label.as_str()).legend(move |(x, y)| {
+                                PathElement::new(vec![(x, y), (x + 8, y)], legend_style)
+                            });
+                        }
+                    }
+                    Stroke::Points => {
+                        let drawn = ctx
+                            .draw_series(pts.iter().map(|&p| Circle::new(p, 4, style)))
+                            .map_err(|e| e.to_string())?;
+                        if labelled {
+                            drawn
+                                .label(s.label.as_str())
+                                .legend(move |(x, y)| Circle::new((x + 12, y), 4, legend_style));
+                        }
+                    }
+                }
+                if s.stroke == Stroke::SolidWithPoints {
+                    ctx.draw_series(pts.iter().map(|&p| Circle::new(p, 3, style)))
+                        .map_err(|e| e.to_string())?;
+                }
+            }
+            if chart.series.iter().any(|s| !s.label.is_empty()) {
+                ctx.configure_series_labels()
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(RGBColor(160, 160, 160))
+                    .label_font(("sans-serif", 16))
+                    .position(SeriesLabelPosition::UpperRight)
+                    .draw()
+                    .map_err(|e| e.to_string())?;
+            }
+        }};
+    }
+    if chart.log_y {
+        body!(builder
+            .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+            .map_err(|e| e.to_string())?);
+    } else {
+        body!(builder
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| e.to_string())?);
+    }
+    root.present().map_err(|e| e.to_string())
+}
+
+/// Write the chart as PNG and/or SVG (either path may be None).
+pub fn write(chart: &LineChart, png: Option<&Path>, svg: Option<&Path>) -> Result<()> {
+    register_font();
+    let size = chart.size_px.unwrap_or((1000, 620));
+    for path in [png, svg].into_iter().flatten() {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        }
+    }
+    if let Some(path) = png {
+        let root = BitMapBackend::new(path, size).into_drawing_area();
+        draw(root, chart).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            source: std::io::Error::other(e),
+        })?;
+    }
+    if let Some(path) = svg {
+        let root = SVGBackend::new(path, size).into_drawing_area();
+        draw(root, chart).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            source: std::io::Error::other(e),
+        })?;
+    }
+    Ok(())
+}

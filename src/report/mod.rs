@@ -1,0 +1,4 @@
+//! Reports: charts (plotters, PNG and SVG with the bundled font) and, later, tables and the
+//! markdown/HTML report.
+
+pub mod chart;
