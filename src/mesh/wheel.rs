@@ -663,8 +663,7 @@ fn add_axle_core(
     for st in 0..stations_mm.len() - 1 {
         for i in 0..q {
             for k in 0..q {
-                mesh.elements
-                    .push(super::hex::structured(st, i, k, |a, b, c| id(a, b, c)));
+                mesh.elements.push(super::hex::structured(st, i, k, id));
                 mesh.material.push(material::AXLE);
             }
         }
