@@ -4,8 +4,10 @@
 //! field side), z vertical up; the wheel axis is y. Units are SI (m, kg, s, N, Pa) except where a
 //! name says otherwise (e.g. `_mm` in profile tables).
 
+pub mod analysis;
 pub mod error;
 pub mod geometry;
+pub mod identify;
 pub mod input;
 pub mod mesh;
 pub mod report;

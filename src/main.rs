@@ -14,6 +14,10 @@ struct Cli {
 enum Command {
     /// Build the wheel or the whole model mesh; print quality; write VTU / Gmsh MSH 4.1.
     Mesh(cli::mesh::MeshArgs),
+    /// Dominant peaks of a run's wheel vibration and the wheel modes that explain them.
+    Identify(cli::identify::IdentifyArgs),
+    /// Exit 0 only if the required modes are identified among the dominant peaks (for CI).
+    CheckModes(cli::identify::CheckModesArgs),
     /// Standard profiles (S1002 wheel, 54E1 rail) as point tables.
     Profile(cli::profile::ProfileArgs),
     /// Welch power spectral density and dominant peaks of a CSV column.
@@ -30,6 +34,12 @@ fn main() {
         None => cli::default_run::run(std::path::Path::new("reports/default")),
         Some(Command::Mesh(args)) => cli::mesh::run(args),
         Some(Command::Profile(args)) => cli::profile::run(args),
+        Some(Command::Identify(args)) => cli::identify::run_identify(args),
+        Some(Command::CheckModes(args)) => match cli::identify::run_check_modes(args) {
+            Ok(true) => Ok(()),
+            Ok(false) => std::process::exit(1),
+            Err(e) => Err(e),
+        },
         Some(Command::Psd(args)) => cli::signal::run_psd(args),
         Some(Command::Cwt(args)) => cli::signal::run_cwt(args),
         Some(Command::Wav(args)) => cli::signal::run_wav(args),

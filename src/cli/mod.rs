@@ -1,6 +1,7 @@
 //! Subcommand argument types and their glue to the library, one file per subcommand.
 
 pub mod default_run;
+pub mod identify;
 pub mod mesh;
 pub mod profile;
 pub mod signal;

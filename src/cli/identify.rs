@@ -1,0 +1,163 @@
+//! `squeal identify` and `squeal check-modes`: dominant peaks of a run's vibration and the
+//! wheel modes that explain them.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use squeal::analysis::{analyse_run, AnalysisOptions};
+use squeal::identify::{missing_required, parse_required, to_csv, to_markdown, Tolerance};
+use squeal::{Error, Result};
+
+/// Options shared by both commands.
+#[derive(Args, Debug)]
+pub struct CommonArgs {
+    /// Run directory with histories.csv and modes.json.
+    pub run_dir: PathBuf,
+    /// Signal: lateral, vertical, longitudinal, or an exact column of histories.csv.
+    #[arg(long, default_value = "lateral")]
+    pub signal: String,
+    /// Number of dominant peaks.
+    #[arg(long, default_value_t = 3)]
+    pub peaks: usize,
+    /// Lowest peak frequency (Hz).
+    #[arg(long, default_value_t = 50.0)]
+    pub fmin: f64,
+    /// Highest peak frequency (Hz); must not exceed the Nyquist frequency of the history.
+    #[arg(long, default_value_t = 10_000.0)]
+    pub fmax: f64,
+    /// Welch segment length (default: automatic).
+    #[arg(long)]
+    pub nperseg: Option<usize>,
+    /// Relative matching tolerance.
+    #[arg(long, default_value_t = 0.05)]
+    pub tolerance: f64,
+    /// Absolute matching tolerance floor (Hz).
+    #[arg(long, default_value_t = 25.0)]
+    pub tolerance_hz: f64,
+    /// Modes file (default RUN_DIR/modes.json).
+    #[arg(long)]
+    pub modes: Option<PathBuf>,
+}
+
+impl CommonArgs {
+    fn options(&self) -> Result<AnalysisOptions> {
+        if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
+            return Err(Error::input(
+                "command line",
+                "--tolerance",
+                format!("must be in (0, 1), got {}", self.tolerance),
+            ));
+        }
+        if !(self.tolerance_hz >= 0.0) {
+            return Err(Error::input(
+                "command line",
+                "--tolerance-hz",
+                format!("must be >= 0, got {}", self.tolerance_hz),
+            ));
+        }
+        if self.peaks == 0 {
+            return Err(Error::input(
+                "command line",
+                "--peaks",
+                "must be at least 1",
+            ));
+        }
+        Ok(AnalysisOptions {
+            signal: self.signal.clone(),
+            peaks: self.peaks,
+            band_hz: (self.fmin, self.fmax),
+            nperseg: self.nperseg,
+            tolerance: Tolerance {
+                relative: self.tolerance,
+                absolute_hz: self.tolerance_hz,
+            },
+            modes_file: self.modes.clone(),
+            ..Default::default()
+        })
+    }
+}
+
+/// Arguments of `squeal identify`.
+#[derive(Args, Debug)]
+pub struct IdentifyArgs {
+    #[command(flatten)]
+    pub common: CommonArgs,
+    /// Write identification.md, .csv and .json here (default: the run directory).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// Run `squeal identify`.
+pub fn run_identify(args: IdentifyArgs) -> Result<()> {
+    let options = args.common.options()?;
+    let analysis = analyse_run(&args.common.run_dir, &options)?;
+    let md = to_markdown(
+        &analysis.identifications,
+        analysis.direction,
+        options.tolerance,
+    );
+    println!("{md}");
+    let out = args.out.unwrap_or_else(|| args.common.run_dir.clone());
+    std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
+    let write = |name: &str, text: String| -> Result<()> {
+        let p = out.join(name);
+        std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
+    };
+    write("identification.md", md)?;
+    write("identification.csv", to_csv(&analysis.identifications))?;
+    write(
+        "identification.json",
+        serde_json::to_string_pretty(&analysis.identifications)
+            .map_err(|e| Error::Numerical(format!("JSON encoding: {e}")))?,
+    )?;
+    println!("wrote {}/identification.{{md,csv,json}}", out.display());
+    Ok(())
+}
+
+/// Arguments of `squeal check-modes`.
+#[derive(Args, Debug)]
+pub struct CheckModesArgs {
+    #[command(flatten)]
+    pub common: CommonArgs,
+    /// Required mode as "nodal circles,nodal diameters" (repeatable), e.g. --require 0,3.
+    #[arg(long, required = true)]
+    pub require: Vec<String>,
+}
+
+/// Run `squeal check-modes`: exit 0 only if every required mode explains a dominant peak.
+pub fn run_check_modes(args: CheckModesArgs) -> Result<bool> {
+    let required: Vec<(u32, u32)> = args
+        .require
+        .iter()
+        .map(|r| parse_required(r))
+        .collect::<Result<_>>()?;
+    let options = args.common.options()?;
+    let analysis = analyse_run(&args.common.run_dir, &options)?;
+    println!(
+        "{}",
+        to_markdown(
+            &analysis.identifications,
+            analysis.direction,
+            options.tolerance
+        )
+    );
+    let missing = missing_required(
+        &analysis.identifications,
+        &required,
+        &analysis.modes,
+        analysis.direction,
+    );
+    if missing.is_empty() {
+        println!(
+            "check-modes: all {} required modes identified in `{}`",
+            required.len(),
+            analysis.column
+        );
+        Ok(true)
+    } else {
+        for m in &missing {
+            eprintln!("check-modes: missing {m}");
+        }
+        Ok(false)
+    }
+}

@@ -1,0 +1,290 @@
+//! Mode-to-peak identification: which wheel mode explains each dominant peak of a vibration
+//! spectrum (issue "squeal analysis", item 4).
+//!
+//! A peak is explained by the mode, of a family the signal direction can see, whose frequency is
+//! closest to the peak and within the tolerance `max(relative x f_mode, absolute_hz)`:
+//! - lateral (axial, out-of-plane) vibration -> axial modes;
+//! - vertical and longitudinal (in-plane) vibration -> radial and circumferential modes.
+//!
+//! Default tolerance: 5 % or 25 Hz, whichever is larger. Why: the explicit (one-point hex) mesh
+//! and the modal model of the same wheel differ by a few per cent at the squeal frequencies
+//! (../shared/ARCHITECTURE.md, element technology), and a 40 ms demo history resolves
+//! frequencies only to ~25 Hz. A peak with no mode inside the tolerance is reported as
+//! unexplained, never forced onto a mode.
+//!
+//! Labels follow the paper: (nodal circles, nodal diameters), e.g. (0,3).
+
+use serde::{Deserialize, Serialize};
+
+use crate::signal::SpectralPeak;
+use crate::{Error, Result};
+
+/// Mode family by the dominant motion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, PartialOrd, Ord)]
+#[serde(rename_all = "lowercase")]
+pub enum ModeFamily {
+    /// Out-of-plane (along the wheel axis).
+    Axial,
+    /// In-plane, radial.
+    Radial,
+    /// In-plane, circumferential.
+    Circumferential,
+    /// Rigid-body mode (never used to explain a peak).
+    Rigid,
+}
+
+/// A wheel mode as the identification needs it (written by the modal module as `modes.json`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ModeRef {
+    /// Natural frequency (Hz).
+    pub frequency_hz: f64,
+    /// Family.
+    pub family: ModeFamily,
+    /// Nodal circles (first index of the paper's label).
+    pub nodal_circles: u32,
+    /// Nodal diameters (second index of the paper's label).
+    pub nodal_diameters: u32,
+}
+
+impl ModeRef {
+    /// The paper's label "(nodal circles, nodal diameters)".
+    pub fn label(&self) -> String {
+        format!("({},{})", self.nodal_circles, self.nodal_diameters)
+    }
+}
+
+/// Direction of a vibration signal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Direction {
+    /// y, along the wheel axis.
+    Lateral,
+    /// z.
+    Vertical,
+    /// x.
+    Longitudinal,
+}
+
+impl Direction {
+    /// Families this direction sees.
+    pub fn families(self) -> &'static [ModeFamily] {
+        match self {
+            Direction::Lateral => &[ModeFamily::Axial],
+            Direction::Vertical | Direction::Longitudinal => {
+                &[ModeFamily::Radial, ModeFamily::Circumferential]
+            }
+        }
+    }
+    /// Parse "lateral" / "vertical" / "longitudinal" (also as a prefix of a column name).
+    pub fn from_signal_name(name: &str) -> Option<Direction> {
+        let n = name.to_ascii_lowercase();
+        if n.starts_with("lateral") {
+            Some(Direction::Lateral)
+        } else if n.starts_with("vertical") {
+            Some(Direction::Vertical)
+        } else if n.starts_with("longitudinal") {
+            Some(Direction::Longitudinal)
+        } else {
+            None
+        }
+    }
+}
+
+/// Matching tolerance.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Tolerance {
+    /// Relative to the modal frequency.
+    pub relative: f64,
+    /// Absolute floor (Hz).
+    pub absolute_hz: f64,
+}
+
+impl Default for Tolerance {
+    fn default() -> Self {
+        Tolerance {
+            relative: 0.05,
+            absolute_hz: 25.0,
+        }
+    }
+}
+
+impl Tolerance {
+    /// Allowed distance (Hz) from a mode at `f_mode_hz`.
+    pub fn window_hz(&self, f_mode_hz: f64) -> f64 {
+        (self.relative * f_mode_hz).max(self.absolute_hz)
+    }
+}
+
+/// One dominant peak and the mode that explains it (if any).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PeakIdentification {
+    /// Rank of the peak (1 = most dominant).
+    pub rank: usize,
+    /// Peak frequency (refined, Hz).
+    pub peak_frequency_hz: f64,
+    /// PSD at the peak (signal unit^2/Hz).
+    pub peak_psd: f64,
+    /// The explaining mode.
+    pub mode: Option<ModeRef>,
+    /// (peak - mode) / mode in per cent.
+    pub difference_percent: Option<f64>,
+}
+
+/// Identify each peak (ranked list, most dominant first) with a mode.
+pub fn identify(
+    peaks: &[SpectralPeak],
+    modes: &[ModeRef],
+    direction: Direction,
+    tolerance: Tolerance,
+) -> Vec<PeakIdentification> {
+    let families = direction.families();
+    peaks
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let f = p.refined_frequency_hz;
+            let best = modes
+                .iter()
+                .filter(|m| families.contains(&m.family) && m.frequency_hz > 0.0)
+                .filter(|m| (f - m.frequency_hz).abs() <= tolerance.window_hz(m.frequency_hz))
+                .min_by(|a, b| {
+                    (f - a.frequency_hz)
+                        .abs()
+                        .total_cmp(&(f - b.frequency_hz).abs())
+                });
+            PeakIdentification {
+                rank: k + 1,
+                peak_frequency_hz: f,
+                peak_psd: p.refined_psd,
+                mode: best.cloned(),
+                difference_percent: best.map(|m| 100.0 * (f - m.frequency_hz) / m.frequency_hz),
+            }
+        })
+        .collect()
+}
+
+/// Parse a required mode "m,n" (nodal circles, nodal diameters).
+pub fn parse_required(text: &str) -> Result<(u32, u32)> {
+    let bad = || {
+        Error::input("command line", "--require", format!("`{text}` is not a mode label: write nodal circles and nodal diameters as two non-negative integers, e.g. 0,3"))
+    };
+    let parts: Vec<&str> = text
+        .trim()
+        .trim_start_matches('(')
+        .trim_end_matches(')')
+        .split(',')
+        .map(str::trim)
+        .collect();
+    if parts.len() != 2 {
+        return Err(bad());
+    }
+    let m = parts[0].parse::<u32>().map_err(|_| bad())?;
+    let n = parts[1].parse::<u32>().map_err(|_| bad())?;
+    Ok((m, n))
+}
+
+/// For each required (nodal circles, nodal diameters): whether it explains one of the peaks.
+/// Returns the list of reasons for the missing ones (empty: all present).
+pub fn missing_required(
+    ids: &[PeakIdentification],
+    required: &[(u32, u32)],
+    modes: &[ModeRef],
+    direction: Direction,
+) -> Vec<String> {
+    let mut reasons = Vec::new();
+    for &(m, n) in required {
+        let found = ids.iter().any(|i| {
+            i.mode
+                .as_ref()
+                .is_some_and(|md| md.nodal_circles == m && md.nodal_diameters == n)
+        });
+        if found {
+            continue;
+        }
+        let candidates: Vec<&ModeRef> = modes
+            .iter()
+            .filter(|md| md.nodal_circles == m && md.nodal_diameters == n)
+            .collect();
+        let reason = if candidates.is_empty() {
+            format!("({m},{n}): no such mode in the modal results")
+        } else if !candidates
+            .iter()
+            .any(|md| direction.families().contains(&md.family))
+        {
+            format!("({m},{n}): the modal results have it only as {:?}, which {:?} vibration does not see", candidates.iter().map(|c| c.family).collect::<Vec<_>>(), direction)
+        } else {
+            let f: Vec<String> = candidates
+                .iter()
+                .map(|c| format!("{:.1} Hz", c.frequency_hz))
+                .collect();
+            format!(
+                "({m},{n}) at {} is not among the {} dominant peaks (peaks at {})",
+                f.join(", "),
+                ids.len(),
+                ids.iter()
+                    .map(|i| format!("{:.1}", i.peak_frequency_hz))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        };
+        reasons.push(reason);
+    }
+    reasons
+}
+
+/// The paper-style table in markdown.
+pub fn to_markdown(
+    ids: &[PeakIdentification],
+    direction: Direction,
+    tolerance: Tolerance,
+) -> String {
+    let mut s = format!(
+        "Dominant peaks of the {direction:?} vibration and the wheel modes that explain them (tolerance {:.0} % or {:.0} Hz). Mode = (nodal circles, nodal diameters).\n\n",
+        100.0 * tolerance.relative,
+        tolerance.absolute_hz
+    );
+    s.push_str("| rank | dominant frequency (Hz) | modal frequency (Hz) | mode | family | difference (%) |\n|---|---|---|---|---|---|\n");
+    for i in ids {
+        match &i.mode {
+            Some(m) => s.push_str(&format!(
+                "| {} | {:.1} | {:.1} | {} | {:?} | {:+.2} |\n",
+                i.rank,
+                i.peak_frequency_hz,
+                m.frequency_hz,
+                m.label(),
+                m.family,
+                i.difference_percent.unwrap_or(0.0)
+            )),
+            None => s.push_str(&format!(
+                "| {} | {:.1} | - | unexplained | - | - |\n",
+                i.rank, i.peak_frequency_hz
+            )),
+        }
+    }
+    s
+}
+
+/// The same table as CSV text.
+pub fn to_csv(ids: &[PeakIdentification]) -> String {
+    let mut s = String::from("rank,dominant_frequency_hz,peak_psd,modal_frequency_hz,nodal_circles,nodal_diameters,family,difference_percent\n");
+    for i in ids {
+        match &i.mode {
+            Some(m) => s.push_str(&format!(
+                "{},{},{},{},{},{},{:?},{}\n",
+                i.rank,
+                i.peak_frequency_hz,
+                i.peak_psd,
+                m.frequency_hz,
+                m.nodal_circles,
+                m.nodal_diameters,
+                m.family,
+                i.difference_percent.unwrap_or(f64::NAN)
+            )),
+            None => s.push_str(&format!(
+                "{},{},{},,,,unexplained,\n",
+                i.rank, i.peak_frequency_hz, i.peak_psd
+            )),
+        }
+    }
+    s
+}

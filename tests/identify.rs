@@ -1,0 +1,246 @@
+//! Mode-to-peak identification on synthetic signals built from known modes plus noise, and
+//! `squeal check-modes` from the command line (both outcomes and the bad-input cases).
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use squeal::analysis::{analyse_run, AnalysisOptions};
+use squeal::identify::{parse_required, Direction, ModeFamily, ModeRef};
+
+fn mode(f: f64, family: ModeFamily, m: u32, n: u32) -> ModeRef {
+    ModeRef {
+        frequency_hz: f,
+        family,
+        nodal_circles: m,
+        nodal_diameters: n,
+    }
+}
+
+/// Paper-like wheel modes (a few hundred Hz umbrella mode, (0,3) ~1 kHz, (0,4) ~2 kHz, ...).
+fn modes() -> Vec<ModeRef> {
+    vec![
+        mode(0.0, ModeFamily::Rigid, 0, 0),
+        mode(300.0, ModeFamily::Axial, 0, 0),
+        mode(480.0, ModeFamily::Axial, 0, 2),
+        mode(1050.0, ModeFamily::Axial, 0, 3),
+        mode(2000.0, ModeFamily::Axial, 0, 4),
+        mode(3050.0, ModeFamily::Axial, 0, 5),
+        mode(1700.0, ModeFamily::Radial, 0, 2),
+        mode(2620.0, ModeFamily::Radial, 0, 3),
+        mode(3900.0, ModeFamily::Circumferential, 0, 1),
+    ]
+}
+
+/// Tones (Hz, amplitude) plus seeded uniform noise, sampled at 20 kHz for 2 s.
+fn write_run(dir: &Path, column: &str, tones: &[(f64, f64)]) {
+    std::fs::create_dir_all(dir).expect("dir");
+    let fs = 20_000.0;
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut csv = format!("time_s,{column}\n");
+    for i in 0..40_000 {
+        let t = i as f64 / fs;
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.2;
+        let v: f64 = tones
+            .iter()
+            .map(|(f, a)| a * (2.0 * PI * f * t).sin())
+            .sum::<f64>()
+            + noise;
+        csv.push_str(&format!("{t:.8},{v:.10}\n"));
+    }
+    std::fs::write(dir.join("histories.csv"), csv).expect("write");
+    std::fs::write(
+        dir.join("modes.json"),
+        serde_json::to_string(&modes()).expect("json"),
+    )
+    .expect("write");
+}
+
+fn temp(tag: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("squeal-identify-{tag}-{}", std::process::id()))
+}
+
+#[test]
+fn lateral_peaks_get_axial_labels_and_a_stray_peak_stays_unexplained() {
+    let dir = temp("lateral");
+    // Modal frequencies shifted by 1 % (as an explicit mesh would), and a tone at 2400 Hz
+    // with no axial mode within 5 % (2000 and 3050 Hz are 17 % and 27 % away).
+    write_run(
+        &dir,
+        "lateral_velocity_m_per_s",
+        &[(303.0, 1.0), (1060.0, 0.8), (2020.0, 0.6), (2400.0, 0.7)],
+    );
+    let options = AnalysisOptions {
+        peaks: 4,
+        ..Default::default()
+    };
+    let a = analyse_run(&dir, &options).expect("analysis");
+    assert_eq!(a.direction, Direction::Lateral);
+    let mut by_freq = a.identifications.clone();
+    by_freq.sort_by(|x, y| x.peak_frequency_hz.total_cmp(&y.peak_frequency_hz));
+    let labels: Vec<String> = by_freq
+        .iter()
+        .map(|i| {
+            i.mode
+                .as_ref()
+                .map(|m| m.label())
+                .unwrap_or_else(|| "unexplained".into())
+        })
+        .collect();
+    assert_eq!(labels, ["(0,0)", "(0,3)", "(0,4)", "unexplained"]);
+    // Peak frequencies refined to well under a bin (1.22 Hz).
+    for (i, f) in by_freq.iter().zip([303.0, 1060.0, 2020.0, 2400.0]) {
+        assert!(
+            (i.peak_frequency_hz - f).abs() < 0.5,
+            "{} vs {f}",
+            i.peak_frequency_hz
+        );
+    }
+    let d = by_freq[1].difference_percent.expect("difference");
+    assert!((d - 100.0 * (1060.0 - 1050.0) / 1050.0).abs() < 0.05, "{d}");
+}
+
+#[test]
+fn vertical_signal_sees_radial_modes_only() {
+    let dir = temp("vertical");
+    // 1705 Hz: radial (0,2) at 1700; 2005 Hz: only an axial mode nearby -> unexplained.
+    write_run(
+        &dir,
+        "vertical_velocity_m_per_s",
+        &[(1705.0, 1.0), (2005.0, 0.8)],
+    );
+    let a = analyse_run(
+        &dir,
+        &AnalysisOptions {
+            signal: "vertical".into(),
+            peaks: 2,
+            ..Default::default()
+        },
+    )
+    .expect("analysis");
+    let mut ids = a.identifications.clone();
+    ids.sort_by(|x, y| x.peak_frequency_hz.total_cmp(&y.peak_frequency_hz));
+    assert_eq!(
+        ids[0].mode.as_ref().map(|m| (m.family, m.label())),
+        Some((ModeFamily::Radial, "(0,2)".to_string()))
+    );
+    assert!(ids[1].mode.is_none());
+}
+
+#[test]
+fn malformed_required_modes_are_rejected() {
+    assert_eq!(parse_required("0,3").expect("ok"), (0, 3));
+    assert_eq!(parse_required("(1, 4)").expect("ok"), (1, 4));
+    for bad in ["0;3", "a,b", "1", "-1,2", "0,3,1", ""] {
+        let e = parse_required(bad).expect_err(bad).to_string();
+        assert!(e.contains("--require") && e.contains("e.g. 0,3"), "{e}");
+    }
+}
+
+fn squeal(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .args(args)
+        .output()
+        .expect("run squeal")
+}
+
+#[test]
+fn check_modes_passes_and_fails_with_reasons() {
+    let dir = temp("check");
+    write_run(
+        &dir,
+        "lateral_velocity_m_per_s",
+        &[(303.0, 1.0), (1060.0, 0.8), (2020.0, 0.6)],
+    );
+    let d = dir.to_str().expect("utf8");
+    let ok = squeal(&[
+        "check-modes",
+        "--require",
+        "0,0",
+        "--require",
+        "0,3",
+        "--require",
+        "0,4",
+        "--signal",
+        "lateral",
+        d,
+    ]);
+    assert_eq!(
+        ok.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    // (0,5) exists at 3050 Hz but has no peak; (2,7) does not exist at all.
+    let missing = squeal(&[
+        "check-modes",
+        "--require",
+        "0,3",
+        "--require",
+        "0,5",
+        "--require",
+        "2,7",
+        "--signal",
+        "lateral",
+        d,
+    ]);
+    assert_eq!(missing.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&missing.stderr);
+    assert!(err.contains("(0,5) at 3050.0 Hz is not among"), "{err}");
+    assert!(err.contains("(2,7): no such mode"), "{err}");
+    // identify writes the paper-style table.
+    let out = temp("check-out");
+    let id = squeal(&[
+        "identify",
+        "--signal",
+        "lateral",
+        d,
+        "--out",
+        out.to_str().expect("utf8"),
+    ]);
+    assert!(id.status.success());
+    let md = std::fs::read_to_string(out.join("identification.md")).expect("md");
+    assert!(md.contains(
+        "| dominant frequency (Hz) | modal frequency (Hz) | mode | family | difference (%) |"
+    ));
+    assert!(out.join("identification.csv").exists() && out.join("identification.json").exists());
+}
+
+#[test]
+fn check_modes_bad_input_exits_2() {
+    let dir = temp("bad");
+    write_run(&dir, "lateral_velocity_m_per_s", &[(303.0, 1.0)]);
+    let d = dir.to_str().expect("utf8");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["check-modes", "--require", "0-3", d], "--require"),
+        (
+            vec!["check-modes", "--require", "0,3", "--signal", "radial", d],
+            "available: time_s, lateral_velocity_m_per_s",
+        ),
+        (
+            vec!["check-modes", "--require", "0,3", "--fmax", "20000", d],
+            "Nyquist",
+        ),
+    ];
+    for (args, needle) in cases {
+        let o = squeal(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(
+            String::from_utf8_lossy(&o.stderr).contains(needle),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    let empty = temp("empty");
+    std::fs::create_dir_all(&empty).expect("dir");
+    let o = squeal(&[
+        "check-modes",
+        "--require",
+        "0,3",
+        empty.to_str().expect("utf8"),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no histories.csv"));
+}
