@@ -48,7 +48,7 @@ impl CommonArgs {
                 format!("must be in (0, 1), got {}", self.tolerance),
             ));
         }
-        if !(self.tolerance_hz >= 0.0) {
+        if self.tolerance_hz.is_nan() || self.tolerance_hz < 0.0 {
             return Err(Error::input(
                 "command line",
                 "--tolerance-hz",
