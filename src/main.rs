@@ -18,6 +18,8 @@ enum Command {
     Identify(cli::identify::IdentifyArgs),
     /// Exit 0 only if the required modes are identified among the dominant peaks (for CI).
     CheckModes(cli::identify::CheckModesArgs),
+    /// Report (markdown + HTML, charts, tables, WAV) over run directories.
+    Report(cli::report::ReportArgs),
     /// Standard profiles (S1002 wheel, 54E1 rail) as point tables.
     Profile(cli::profile::ProfileArgs),
     /// Welch power spectral density and dominant peaks of a CSV column.
@@ -35,6 +37,7 @@ fn main() {
         Some(Command::Mesh(args)) => cli::mesh::run(args),
         Some(Command::Profile(args)) => cli::profile::run(args),
         Some(Command::Identify(args)) => cli::identify::run_identify(args),
+        Some(Command::Report(args)) => cli::report::run(args),
         Some(Command::CheckModes(args)) => match cli::identify::run_check_modes(args) {
             Ok(true) => Ok(()),
             Ok(false) => std::process::exit(1),

@@ -4,4 +4,5 @@ pub mod default_run;
 pub mod identify;
 pub mod mesh;
 pub mod profile;
+pub mod report;
 pub mod signal;

@@ -190,6 +190,8 @@ where
                 .label_style(("sans-serif", 16))
                 .axis_desc_style(("sans-serif", 19))
                 .light_line_style(RGBColor(235, 235, 235))
+                .x_label_formatter(&tick_label)
+                .y_label_formatter(&tick_label)
                 .draw()
                 .map_err(|e| e.to_string())?;
             for s in &chart.series {
@@ -268,6 +270,26 @@ where
     root.present().map_err(|e| e.to_string())
 }
 
+/// Axis tick text: plain numbers with at most 4 significant digits, powers of ten as 1e-6.
+pub fn tick_label(v: &f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        return "0".into();
+    }
+    if !(1e-3..1e5).contains(&a) {
+        let e = a.log10().floor();
+        let m = v / 10f64.powf(e);
+        return if (m.abs() - 1.0).abs() < 1e-6 {
+            format!("{}1e{}", if *v < 0.0 { "-" } else { "" }, e as i32)
+        } else {
+            format!("{m:.2}e{}", e as i32)
+        };
+    }
+    let text = format!("{:.4}", v);
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    text.to_string()
+}
+
 /// Write the chart as PNG and/or SVG (either path may be None).
 pub fn write(chart: &LineChart, png: Option<&Path>, svg: Option<&Path>) -> Result<()> {
     register_font();
@@ -289,6 +311,176 @@ pub fn write(chart: &LineChart, png: Option<&Path>, svg: Option<&Path>) -> Resul
         draw(root, chart).map_err(|e| Error::Io {
             path: path.display().to_string(),
             source: std::io::Error::other(e),
+        })?;
+    }
+    Ok(())
+}
+
+/// A colour map over a time x frequency grid (wavelet power spectra).
+#[derive(Clone, Debug, Default)]
+pub struct Heatmap {
+    /// Title.
+    pub title: String,
+    /// x-axis label with unit.
+    pub x_label: String,
+    /// y-axis label with unit.
+    pub y_label: String,
+    /// Cell centres along x (ascending).
+    pub x: Vec<f64>,
+    /// Cell centres along y (ascending).
+    pub y: Vec<f64>,
+    /// Values, `values[ix * y.len() + iy]`; drawn as 10 log10(v / max) dB over `range_db`.
+    pub values: Vec<f64>,
+    /// Dynamic range shown (dB below the maximum).
+    pub range_db: f64,
+    /// Logarithmic y axis.
+    pub log_y: bool,
+    /// Lines drawn on top (e.g. the cone of influence).
+    pub overlay: Vec<Series>,
+    /// Size in pixels.
+    pub size_px: Option<(u32, u32)>,
+}
+
+fn cell_edges(c: &[f64], log: bool) -> Vec<f64> {
+    let n = c.len();
+    let mut e = Vec::with_capacity(n + 1);
+    if n == 1 {
+        return if log {
+            vec![c[0] / 1.1, c[0] * 1.1]
+        } else {
+            vec![c[0] - 0.5, c[0] + 0.5]
+        };
+    }
+    let mid = |a: f64, b: f64| if log { (a * b).sqrt() } else { 0.5 * (a + b) };
+    let first = if log {
+        c[0] * c[0] / mid(c[0], c[1])
+    } else {
+        2.0 * c[0] - mid(c[0], c[1])
+    };
+    e.push(first);
+    for k in 0..n - 1 {
+        e.push(mid(c[k], c[k + 1]));
+    }
+    let last = if log {
+        c[n - 1] * c[n - 1] / mid(c[n - 2], c[n - 1])
+    } else {
+        2.0 * c[n - 1] - mid(c[n - 2], c[n - 1])
+    };
+    e.push(last);
+    e
+}
+
+fn draw_heatmap<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    map: &Heatmap,
+) -> std::result::Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let (nx, ny) = (map.x.len(), map.y.len());
+    if nx == 0 || ny == 0 || map.values.len() != nx * ny {
+        return Err(format!(
+            "heatmap needs {nx} x {ny} values, got {}",
+            map.values.len()
+        ));
+    }
+    let xe = cell_edges(&map.x, false);
+    let ye = cell_edges(&map.y, map.log_y);
+    let vmax = map
+        .values
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, f64::max)
+        .max(1e-300);
+    let range = map.range_db.max(1.0);
+    let mut builder = ChartBuilder::on(&root);
+    builder
+        .caption(&map.title, ("sans-serif", 24))
+        .margin(14)
+        .x_label_area_size(52)
+        .y_label_area_size(86);
+    macro_rules! body {
+        ($ctx:expr) => {{
+            let mut ctx = $ctx;
+            ctx.configure_mesh()
+                .disable_mesh()
+                .x_label_formatter(&tick_label)
+                .y_label_formatter(&tick_label)
+                .x_desc(map.x_label.as_str())
+                .y_desc(map.y_label.as_str())
+                .label_style(("sans-serif", 16))
+                .axis_desc_style(("sans-serif", 19))
+                .draw()
+                .map_err(|e| e.to_string())?;
+            let cells = (0..nx)
+                .flat_map(|ix| (0..ny).map(move |iy| (ix, iy)))
+                .map(|(ix, iy)| {
+                    let v = map.values[ix * ny + iy];
+                    let db = if v > 0.0 {
+                        10.0 * (v / vmax).log10()
+                    } else {
+                        -range
+                    };
+                    let t = ((db + range) / range).clamp(0.0, 1.0);
+                    let c = ViridisRGB.get_color(t as f32);
+                    Rectangle::new([(xe[ix], ye[iy]), (xe[ix + 1], ye[iy + 1])], c.filled())
+                });
+            ctx.draw_series(cells).map_err(|e| e.to_string())?;
+            for s in &map.overlay {
+                let pts: Vec<(f64, f64)> =
+                    s.x.iter()
+                        .zip(&s.y)
+                        .map(|(&x, &y)| (x, y))
+                        .filter(|p| p.1.is_finite() && p.1 > ye[0] && p.1 < ye[ny])
+                        .collect();
+                let style = ShapeStyle {
+                    color: WHITE.to_rgba(),
+                    filled: false,
+                    stroke_width: 2,
+                };
+                ctx.draw_series(DashedLineSeries::new(pts, 6, 4, style))
+                    .map_err(|e| e.to_string())?;
+            }
+        }};
+    }
+    if map.log_y {
+        body!(builder
+            .build_cartesian_2d(xe[0]..xe[nx], (ye[0]..ye[ny]).log_scale())
+            .map_err(|e| e.to_string())?);
+    } else {
+        body!(builder
+            .build_cartesian_2d(xe[0]..xe[nx], ye[0]..ye[ny])
+            .map_err(|e| e.to_string())?);
+    }
+    root.present().map_err(|e| e.to_string())
+}
+
+/// Write a heatmap as PNG and/or SVG.
+pub fn write_heatmap(map: &Heatmap, png: Option<&Path>, svg: Option<&Path>) -> Result<()> {
+    register_font();
+    let size = map.size_px.unwrap_or((900, 560));
+    for path in [png, svg].into_iter().flatten() {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        }
+    }
+    if let Some(path) = png {
+        draw_heatmap(BitMapBackend::new(path, size).into_drawing_area(), map).map_err(|e| {
+            Error::Io {
+                path: path.display().to_string(),
+                source: std::io::Error::other(e),
+            }
+        })?;
+    }
+    if let Some(path) = svg {
+        draw_heatmap(SVGBackend::new(path, size).into_drawing_area(), map).map_err(|e| {
+            Error::Io {
+                path: path.display().to_string(),
+                source: std::io::Error::other(e),
+            }
         })?;
     }
     Ok(())

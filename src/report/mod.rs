@@ -2,3 +2,4 @@
 //! markdown/HTML report.
 
 pub mod chart;
+pub mod run_report;

@@ -1,0 +1,621 @@
+//! `squeal report RUN_DIR...`: one report (markdown + HTML, charts as PNG and SVG, WAV files)
+//! over one or more run directories, laid out like the paper's figures:
+//! - wheel vibration time histories and PSDs of all runs on one figure each (paper fig. 9);
+//! - wavelet power spectra of lateral, vertical and longitudinal vibration for up to two runs
+//!   side by side (paper fig. 10);
+//! - contact force histories per run (when `contact_forces.csv` is present);
+//! - modal chart (frequency against nodal diameters per family) when `modes.json` is present;
+//! - mode-to-peak tables; run metadata from `run.json`; a WAV of the lateral vibration.
+//!
+//! Files read from each run directory (see [`crate::analysis`]): `histories.csv` (required),
+//! `modes.json`, `contact_forces.csv`, `run.json` (optional).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use super::chart::{write, write_heatmap, Heatmap, LineChart, Series, Stroke};
+use crate::analysis::{analyse_run, AnalysisOptions, RunAnalysis};
+use crate::identify::{to_markdown, ModeFamily, ModeRef};
+use crate::signal::{morlet_cwt, wav::write_wav, Scales};
+use crate::{Error, Result};
+
+/// Columns of a CSV file with a `time_s` column.
+#[derive(Clone, Debug)]
+pub struct Table {
+    /// Column names (including `time_s`).
+    pub headers: Vec<String>,
+    /// Columns.
+    pub columns: Vec<Vec<f64>>,
+}
+
+impl Table {
+    /// Read a numeric CSV file.
+    pub fn read(path: &Path) -> Result<Table> {
+        let name = path.display().to_string();
+        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let mut reader = csv::ReaderBuilder::new()
+            .trim(csv::Trim::All)
+            .from_reader(file);
+        let headers: Vec<String> = reader
+            .headers()
+            .map_err(|e| Error::input(&name, "header", e.to_string()))?
+            .iter()
+            .map(str::to_string)
+            .collect();
+        let mut columns = vec![Vec::new(); headers.len()];
+        for (line, rec) in reader.records().enumerate() {
+            let rec =
+                rec.map_err(|e| Error::input(&name, format!("line {}", line + 2), e.to_string()))?;
+            for (k, field) in rec.iter().enumerate().take(headers.len()) {
+                let v = field.parse::<f64>().map_err(|_| {
+                    Error::input(
+                        &name,
+                        format!("line {}, column `{}`", line + 2, headers[k]),
+                        format!("`{field}` is not a number"),
+                    )
+                })?;
+                columns[k].push(v);
+            }
+        }
+        if !headers.iter().any(|h| h == "time_s") {
+            return Err(Error::input(
+                &name,
+                "time_s",
+                format!("no `time_s` column; columns: {}", headers.join(", ")),
+            ));
+        }
+        Ok(Table { headers, columns })
+    }
+    /// Column by name.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.headers
+            .iter()
+            .position(|h| h == name)
+            .map(|k| self.columns[k].as_slice())
+    }
+    /// First column whose name starts with `prefix`.
+    pub fn column_starting(&self, prefix: &str) -> Option<(&str, &[f64])> {
+        self.headers
+            .iter()
+            .position(|h| h.starts_with(prefix))
+            .map(|k| (self.headers[k].as_str(), self.columns[k].as_slice()))
+    }
+}
+
+/// What a report contains (also written as report.json).
+#[derive(Clone, Debug, Serialize)]
+pub struct ReportSummary {
+    /// Output directory.
+    pub directory: PathBuf,
+    /// Runs included.
+    pub runs: Vec<String>,
+    /// Files written.
+    pub files: Vec<String>,
+    /// Section headings of index.md.
+    pub sections: Vec<String>,
+}
+
+struct Run {
+    name: String,
+    dir: PathBuf,
+    histories: Table,
+    analyses: Vec<RunAnalysis>,
+    modes: Option<Vec<ModeRef>>,
+}
+
+fn run_name(dir: &Path) -> String {
+    dir.file_name()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_else(|| "run".into())
+}
+
+/// Wavelet power of one signal as a heatmap (time in ms, frequency log axis, COI overlay).
+fn wavelet_chart(
+    title: &str,
+    time_s: &[f64],
+    signal: &[f64],
+    sample_rate_hz: f64,
+    fmax_hz: f64,
+) -> Result<Heatmap> {
+    let fmin = (4.0 * sample_rate_hz / signal.len() as f64).max(20.0);
+    let fmax = fmax_hz.min(0.4 * sample_rate_hz).max(2.0 * fmin);
+    let scales = Scales::from_frequency_band(fmin, fmax, 8)?;
+    let wp = morlet_cwt(signal, sample_rate_hz, &scales)?;
+    // Columns: at most 400 time bins (mean power per bin); rows ascending in frequency.
+    let nt = wp.time_count;
+    let bins = nt.min(400).max(1);
+    let nf = wp.frequency_count();
+    let mut order: Vec<usize> = (0..nf).collect();
+    order.sort_by(|&a, &b| wp.frequency_hz[a].total_cmp(&wp.frequency_hz[b]));
+    let mut x = Vec::with_capacity(bins);
+    let mut values = vec![0.0; bins * nf];
+    for b in 0..bins {
+        let (t0, t1) = (b * nt / bins, ((b + 1) * nt / bins).max(b * nt / bins + 1));
+        x.push(1e3 * time_s[(t0 + t1) / 2]);
+        for (row, &j) in order.iter().enumerate() {
+            let mut acc = 0.0;
+            for t in t0..t1 {
+                acc += wp.power_at(t, j);
+            }
+            values[b * nf + row] = acc / (t1 - t0) as f64;
+        }
+    }
+    let coi = wp.coi_frequency_hz();
+    let coi_series = Series {
+        label: "cone of influence".into(),
+        x: time_s
+            .iter()
+            .step_by((nt / 400).max(1))
+            .map(|t| 1e3 * t)
+            .collect(),
+        y: coi.iter().step_by((nt / 400).max(1)).copied().collect(),
+        stroke: Stroke::Dotted,
+        color: 6,
+    };
+    Ok(Heatmap {
+        title: title.to_string(),
+        x_label: "time (ms)".into(),
+        y_label: "frequency (Hz)".into(),
+        x,
+        y: order.iter().map(|&j| wp.frequency_hz[j]).collect(),
+        values,
+        range_db: 40.0,
+        log_y: true,
+        overlay: vec![coi_series],
+        size_px: Some((760, 520)),
+    })
+}
+
+/// Build the report for `run_dirs` into `out_dir`.
+pub fn build_report(run_dirs: &[PathBuf], out_dir: &Path, title: &str) -> Result<ReportSummary> {
+    if run_dirs.is_empty() {
+        return Err(Error::input(
+            "command line",
+            "RUN_DIR",
+            "give at least one run directory",
+        ));
+    }
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    let mut runs = Vec::new();
+    for dir in run_dirs {
+        let hist_path = dir.join("histories.csv");
+        if !hist_path.exists() {
+            return Err(Error::input(
+                dir.display().to_string(),
+                "histories.csv",
+                "the run directory has no histories.csv",
+            ));
+        }
+        let histories = Table::read(&hist_path)?;
+        let modes_path = dir.join("modes.json");
+        let modes: Option<Vec<ModeRef>> = if modes_path.exists() {
+            Some(crate::input::read_json(&modes_path)?)
+        } else {
+            None
+        };
+        let mut analyses = Vec::new();
+        if modes.is_some() {
+            for d in ["lateral", "vertical", "longitudinal"] {
+                if let Some((col, _)) = histories.column_starting(&format!("{d}_")) {
+                    let t = histories.column("time_s").unwrap_or(&[]);
+                    let fs = if t.len() > 1 {
+                        (t.len() - 1) as f64 / (t[t.len() - 1] - t[0])
+                    } else {
+                        1.0
+                    };
+                    let options = AnalysisOptions {
+                        signal: col.to_string(),
+                        peaks: 3,
+                        band_hz: (50.0_f64.min(0.1 * fs), (0.45 * fs).min(10_000.0)),
+                        ..Default::default()
+                    };
+                    analyses.push(analyse_run(dir, &options)?);
+                }
+            }
+        }
+        runs.push(Run {
+            name: run_name(dir),
+            dir: dir.clone(),
+            histories,
+            analyses,
+            modes,
+        });
+    }
+
+    let mut md = String::new();
+    let mut sections = Vec::new();
+    let mut files = Vec::new();
+    let mut heading = |md: &mut String, text: &str| {
+        let _ = writeln!(md, "\n## {text}\n");
+        sections.push(text.to_string());
+    };
+    let _ = writeln!(md, "# {title}\n\nRuns: {}. Axes: x along the track, y lateral (field side), z up. Mode labels: (nodal circles, nodal diameters).", runs.iter().map(|r| format!("`{}`", r.name)).collect::<Vec<_>>().join(", "));
+
+    // ---- Vibration histories and PSDs of all runs (paper fig. 9).
+    heading(
+        &mut md,
+        "Wheel vibration: time histories and PSDs (all runs)",
+    );
+    for d in ["lateral", "vertical", "longitudinal"] {
+        let mut hist = Vec::new();
+        let mut psds = Vec::new();
+        let mut unit = String::new();
+        for (k, r) in runs.iter().enumerate() {
+            let Some((col, v)) = r.histories.column_starting(&format!("{d}_")) else {
+                continue;
+            };
+            unit = col
+                .rsplit_once("_m_per_s")
+                .map(|_| "m/s".to_string())
+                .unwrap_or_else(|| col.split('_').next_back().unwrap_or("").to_string());
+            let t: Vec<f64> = r
+                .histories
+                .column("time_s")
+                .unwrap_or(&[])
+                .iter()
+                .map(|t| 1e3 * t)
+                .collect();
+            let step = (t.len() / 4000).max(1);
+            hist.push(Series::line(
+                &r.name,
+                t.iter().step_by(step).copied().collect(),
+                v.iter().step_by(step).copied().collect(),
+                k,
+            ));
+            if let Some(a) = r.analyses.iter().find(|a| a.column == col) {
+                psds.push(Series::line(
+                    &r.name,
+                    a.psd.frequency_hz.clone(),
+                    a.psd.psd_per_hz.clone(),
+                    k,
+                ));
+                let peaks: Vec<(f64, f64)> = a
+                    .identifications
+                    .iter()
+                    .map(|i| (i.peak_frequency_hz, i.peak_psd))
+                    .collect();
+                psds.push(Series {
+                    label: String::new(),
+                    x: peaks.iter().map(|p| p.0).collect(),
+                    y: peaks.iter().map(|p| p.1).collect(),
+                    stroke: Stroke::Points,
+                    color: k,
+                });
+            } else {
+                let tt = r.histories.column("time_s").unwrap_or(&[]);
+                if tt.len() > 64 {
+                    let fs = (tt.len() - 1) as f64 / (tt[tt.len() - 1] - tt[0]);
+                    let mut p = 64;
+                    while p * 2 <= v.len() / 2 {
+                        p *= 2;
+                    }
+                    let psd = crate::signal::welch(v, fs, &crate::signal::WelchParams::new(p))?;
+                    psds.push(Series::line(&r.name, psd.frequency_hz, psd.psd_per_hz, k));
+                }
+            }
+        }
+        if hist.is_empty() {
+            continue;
+        }
+        let stem = format!("vibration_{d}");
+        write(
+            &LineChart {
+                title: format!("Wheel {d} vibration"),
+                x_label: "time (ms)".into(),
+                y_label: format!("{d} vibration ({unit})"),
+                series: hist,
+                ..Default::default()
+            },
+            Some(&out_dir.join(format!("{stem}.png"))),
+            Some(&out_dir.join(format!("{stem}.svg"))),
+        )?;
+        write(
+            &LineChart {
+                title: format!("PSD of the wheel {d} vibration (dots: dominant peaks)"),
+                x_label: "frequency (Hz)".into(),
+                y_label: format!("PSD (({unit})^2/Hz)"),
+                series: psds,
+                log_y: true,
+                ..Default::default()
+            },
+            Some(&out_dir.join(format!("{stem}_psd.png"))),
+            Some(&out_dir.join(format!("{stem}_psd.svg"))),
+        )?;
+        let _ = writeln!(
+            md,
+            "![{d} history]({stem}.png)\n![{d} PSD]({stem}_psd.png)\n"
+        );
+        files.extend([format!("{stem}.png"), format!("{stem}_psd.png")]);
+    }
+
+    // ---- Wavelet power spectra for up to two runs (paper fig. 10).
+    heading(&mut md, "Wavelet power spectra (Morlet)");
+    for r in runs.iter().take(2) {
+        let t = r.histories.column("time_s").unwrap_or(&[]);
+        if t.len() < 64 {
+            continue;
+        }
+        let fs = (t.len() - 1) as f64 / (t[t.len() - 1] - t[0]);
+        let mut row = String::new();
+        for d in ["lateral", "vertical", "longitudinal"] {
+            let Some((col, v)) = r.histories.column_starting(&format!("{d}_")) else {
+                continue;
+            };
+            let map = wavelet_chart(&format!("{}: {d} ({col})", r.name), t, v, fs, 10_000.0)?;
+            let stem = format!("wps_{}_{d}", r.name);
+            write_heatmap(
+                &map,
+                Some(&out_dir.join(format!("{stem}.png"))),
+                Some(&out_dir.join(format!("{stem}.svg"))),
+            )?;
+            let _ = write!(row, "![{stem}]({stem}.png) ");
+            files.push(format!("{stem}.png"));
+        }
+        let _ = writeln!(md, "{row}\n\nColour: wavelet power in dB below its maximum (40 dB shown); dashed: cone of influence.\n");
+    }
+
+    // ---- Contact forces.
+    let with_forces: Vec<&Run> = runs
+        .iter()
+        .filter(|r| r.dir.join("contact_forces.csv").exists())
+        .collect();
+    if !with_forces.is_empty() {
+        heading(&mut md, "Contact forces");
+        for r in with_forces {
+            let table = Table::read(&r.dir.join("contact_forces.csv"))?;
+            let t: Vec<f64> = table
+                .column("time_s")
+                .unwrap_or(&[])
+                .iter()
+                .map(|v| 1e3 * v)
+                .collect();
+            let series: Vec<Series> = table
+                .headers
+                .iter()
+                .zip(&table.columns)
+                .filter(|(h, _)| h.as_str() != "time_s")
+                .enumerate()
+                .map(|(k, (h, c))| {
+                    Series::line(h, t.clone(), c.iter().map(|v| v * 1e-3).collect(), k)
+                })
+                .collect();
+            let stem = format!("contact_forces_{}", r.name);
+            write(
+                &LineChart {
+                    title: format!("Contact forces: {}", r.name),
+                    x_label: "time (ms)".into(),
+                    y_label: "force (kN)".into(),
+                    series,
+                    ..Default::default()
+                },
+                Some(&out_dir.join(format!("{stem}.png"))),
+                Some(&out_dir.join(format!("{stem}.svg"))),
+            )?;
+            let _ = writeln!(md, "![{stem}]({stem}.png)\n");
+            files.push(format!("{stem}.png"));
+        }
+    }
+
+    // ---- Modal chart (FE modes: frequency against nodal diameters per family).
+    if let Some(modes) = runs.iter().find_map(|r| r.modes.as_ref()) {
+        heading(&mut md, "Wheel modes");
+        let mut series = Vec::new();
+        for (k, fam) in [
+            ModeFamily::Axial,
+            ModeFamily::Radial,
+            ModeFamily::Circumferential,
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            for m in 0..=2u32 {
+                let mut pts: Vec<(f64, f64)> = modes
+                    .iter()
+                    .filter(|md| md.family == fam && md.nodal_circles == m)
+                    .map(|md| (md.nodal_diameters as f64, md.frequency_hz))
+                    .collect();
+                if pts.is_empty() {
+                    continue;
+                }
+                pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+                pts.dedup_by(|a, b| a.0 == b.0);
+                series.push(Series {
+                    label: format!("{fam:?}, {m} nodal circle(s), FE"),
+                    x: pts.iter().map(|p| p.0).collect(),
+                    y: pts.iter().map(|p| p.1).collect(),
+                    stroke: Stroke::Dotted,
+                    color: 3 * k + m as usize,
+                });
+            }
+        }
+        write(
+            &LineChart {
+                title: "Wheel modes: frequency against nodal diameters (FE dotted)".into(),
+                x_label: "nodal diameters".into(),
+                y_label: "frequency (Hz)".into(),
+                series,
+                ..Default::default()
+            },
+            Some(&out_dir.join("modes.png")),
+            Some(&out_dir.join("modes.svg")),
+        )?;
+        let _ = writeln!(md, "![modes](modes.png)\n");
+        files.push("modes.png".into());
+    }
+
+    // ---- Mode-to-peak tables.
+    if runs.iter().any(|r| !r.analyses.is_empty()) {
+        heading(&mut md, "Dominant frequencies and wheel modes");
+        for r in &runs {
+            for a in &r.analyses {
+                let _ = writeln!(
+                    md,
+                    "### {} ({})\n\n{}",
+                    r.name,
+                    a.column,
+                    to_markdown(&a.identifications, a.direction, Default::default())
+                );
+            }
+        }
+    }
+
+    // ---- Sound.
+    heading(&mut md, "Listen");
+    for r in &runs {
+        let t = r.histories.column("time_s").unwrap_or(&[]);
+        if let (Some((_, v)), true) = (r.histories.column_starting("lateral_"), t.len() > 64) {
+            let fs = (t.len() - 1) as f64 / (t[t.len() - 1] - t[0]);
+            let name = format!("{}_lateral.wav", r.name);
+            write_wav(&out_dir.join(&name), v, fs, 44_100)?;
+            let _ = writeln!(
+                md,
+                "- [{}: lateral wheel vibration]({name}) (resampled to 44.1 kHz, normalised)",
+                r.name
+            );
+            files.push(name);
+        }
+    }
+
+    // ---- Metadata.
+    heading(&mut md, "Run metadata");
+    for r in &runs {
+        let _ = writeln!(md, "### {}\n", r.name);
+        let meta = r.dir.join("run.json");
+        if meta.exists() {
+            let v: serde_json::Value = crate::input::read_json(&meta)?;
+            if let Some(obj) = v.as_object() {
+                let _ = writeln!(md, "| item | value |\n|---|---|");
+                for (k, val) in obj {
+                    let _ = writeln!(md, "| {k} | {} |", val.to_string().trim_matches('"'));
+                }
+            }
+        } else {
+            let _ = writeln!(md, "(no run.json)");
+        }
+        let t = r.histories.column("time_s").unwrap_or(&[]);
+        let _ = writeln!(
+            md,
+            "\nhistories: {} samples, {:.1} ms, columns {}",
+            t.len(),
+            1e3 * (t.last().copied().unwrap_or(0.0) - t.first().copied().unwrap_or(0.0)),
+            r.histories.headers.join(", ")
+        );
+    }
+
+    let index_md = out_dir.join("index.md");
+    std::fs::write(&index_md, &md).map_err(|e| Error::io(&index_md, e))?;
+    let index_html = out_dir.join("index.html");
+    std::fs::write(&index_html, markdown_to_html(title, &md))
+        .map_err(|e| Error::io(&index_html, e))?;
+    files.extend(["index.md".to_string(), "index.html".to_string()]);
+    let summary = ReportSummary {
+        directory: out_dir.to_path_buf(),
+        runs: runs.iter().map(|r| r.name.clone()).collect(),
+        files,
+        sections,
+    };
+    let json = out_dir.join("report.json");
+    std::fs::write(
+        &json,
+        serde_json::to_string_pretty(&summary).unwrap_or_default(),
+    )
+    .map_err(|e| Error::io(&json, e))?;
+    Ok(summary)
+}
+
+/// Minimal markdown -> HTML for the report's own markdown (headings, images, links, tables,
+/// lists, paragraphs).
+pub fn markdown_to_html(title: &str, md: &str) -> String {
+    let esc = |s: &str| {
+        s.replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;")
+    };
+    let inline = |s: &str| -> String {
+        // Images ![alt](src) and links [text](href); everything else escaped.
+        let mut out = String::new();
+        let mut rest = s;
+        while let Some(start) = rest.find('[') {
+            let is_img = start > 0 && rest.as_bytes()[start - 1] == b'!';
+            let (before, after) = rest.split_at(if is_img { start - 1 } else { start });
+            out.push_str(&esc(before));
+            let after = if is_img { &after[1..] } else { after };
+            if let (Some(close), Some(paren)) = (after.find("]("), after.find(')')) {
+                if close < paren {
+                    let text = &after[1..close];
+                    let href = &after[close + 2..paren];
+                    if is_img {
+                        out.push_str(&format!(
+                            "<img src=\"{}\" alt=\"{}\" style=\"max-width:48%\">",
+                            esc(href),
+                            esc(text)
+                        ));
+                    } else {
+                        out.push_str(&format!("<a href=\"{}\">{}</a>", esc(href), esc(text)));
+                    }
+                    rest = &after[paren + 1..];
+                    continue;
+                }
+            }
+            out.push_str(&esc(&after[..1]));
+            rest = &after[1..];
+        }
+        out.push_str(&esc(rest));
+        out
+    };
+    let mut html = format!("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{}</title><style>body{{font-family:sans-serif;max-width:1400px;margin:auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #bbb;padding:3px 8px}}</style></head><body>\n", esc(title));
+    let mut in_table = false;
+    let mut in_list = false;
+    for line in md.lines() {
+        let l = line.trim_end();
+        if l.starts_with('|') {
+            if l.contains("---") {
+                continue;
+            }
+            if !in_table {
+                html.push_str("<table>\n");
+                in_table = true;
+            }
+            let cells: Vec<&str> = l.trim_matches('|').split('|').collect();
+            html.push_str("<tr>");
+            for c in cells {
+                html.push_str(&format!("<td>{}</td>", inline(c.trim())));
+            }
+            html.push_str("</tr>\n");
+            continue;
+        } else if in_table {
+            html.push_str("</table>\n");
+            in_table = false;
+        }
+        if let Some(item) = l.strip_prefix("- ") {
+            if !in_list {
+                html.push_str("<ul>\n");
+                in_list = true;
+            }
+            html.push_str(&format!("<li>{}</li>\n", inline(item)));
+            continue;
+        } else if in_list {
+            html.push_str("</ul>\n");
+            in_list = false;
+        }
+        if let Some(h) = l.strip_prefix("### ") {
+            html.push_str(&format!("<h3>{}</h3>\n", inline(h)));
+        } else if let Some(h) = l.strip_prefix("## ") {
+            html.push_str(&format!("<h2>{}</h2>\n", inline(h)));
+        } else if let Some(h) = l.strip_prefix("# ") {
+            html.push_str(&format!("<h1>{}</h1>\n", inline(h)));
+        } else if !l.is_empty() {
+            html.push_str(&format!("<p>{}</p>\n", inline(l)));
+        }
+    }
+    if in_table {
+        html.push_str("</table>\n");
+    }
+    if in_list {
+        html.push_str("</ul>\n");
+    }
+    html.push_str("</body></html>\n");
+    html
+}

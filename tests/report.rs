@@ -1,0 +1,127 @@
+//! `squeal report` over synthetic run directories: every section is written, charts and WAV
+//! files exist and are referenced from index.md and index.html.
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+use squeal::identify::{ModeFamily, ModeRef};
+use squeal::report::run_report::build_report;
+
+fn write_run(dir: &Path, lateral_amp: f64) {
+    std::fs::create_dir_all(dir).expect("dir");
+    let fs = 20_000.0;
+    let mut csv = String::from(
+        "time_s,lateral_velocity_m_per_s,vertical_velocity_m_per_s,longitudinal_velocity_m_per_s\n",
+    );
+    let mut forces = String::from("time_s,normal_n,lateral_n,longitudinal_n\n");
+    for i in 0..2_000 {
+        let t = i as f64 / fs;
+        let lat =
+            lateral_amp * ((2.0 * PI * 1050.0 * t).sin() + 0.5 * (2.0 * PI * 300.0 * t).sin());
+        let ver = 0.2 * (2.0 * PI * 1700.0 * t).sin();
+        let lon = 0.1 * (2.0 * PI * 150.0 * t).sin();
+        csv.push_str(&format!("{t:.8},{lat:.8},{ver:.8},{lon:.8}\n"));
+        forces.push_str(&format!(
+            "{t:.8},{},{},{}\n",
+            110e3 + 1e3 * lat,
+            5e3 * lon,
+            30e3
+        ));
+    }
+    std::fs::write(dir.join("histories.csv"), csv).expect("write");
+    std::fs::write(dir.join("contact_forces.csv"), forces).expect("write");
+    let modes = vec![
+        ModeRef {
+            frequency_hz: 300.0,
+            family: ModeFamily::Axial,
+            nodal_circles: 0,
+            nodal_diameters: 0,
+        },
+        ModeRef {
+            frequency_hz: 1050.0,
+            family: ModeFamily::Axial,
+            nodal_circles: 0,
+            nodal_diameters: 3,
+        },
+        ModeRef {
+            frequency_hz: 2000.0,
+            family: ModeFamily::Axial,
+            nodal_circles: 0,
+            nodal_diameters: 4,
+        },
+        ModeRef {
+            frequency_hz: 1700.0,
+            family: ModeFamily::Radial,
+            nodal_circles: 0,
+            nodal_diameters: 2,
+        },
+    ];
+    std::fs::write(
+        dir.join("modes.json"),
+        serde_json::to_string(&modes).expect("json"),
+    )
+    .expect("write");
+    std::fs::write(
+        dir.join("run.json"),
+        r#"{"scenario": "synthetic", "time_step_s": 1e-7, "wall_time_s": 1.5}"#,
+    )
+    .expect("write");
+}
+
+#[test]
+fn report_has_every_section_and_file() {
+    let root: PathBuf = std::env::temp_dir().join(format!("squeal-report-{}", std::process::id()));
+    let (a, b) = (root.join("case1"), root.join("case3"));
+    write_run(&a, 0.1);
+    write_run(&b, 1.0);
+    let out = root.join("out");
+    let summary = build_report(&[a, b], &out, "test report").expect("report");
+    for s in [
+        "Wheel vibration: time histories and PSDs (all runs)",
+        "Wavelet power spectra (Morlet)",
+        "Contact forces",
+        "Wheel modes",
+        "Dominant frequencies and wheel modes",
+        "Listen",
+        "Run metadata",
+    ] {
+        assert!(
+            summary.sections.iter().any(|x| x == s),
+            "section {s} missing: {:?}",
+            summary.sections
+        );
+    }
+    let md = std::fs::read_to_string(out.join("index.md")).expect("md");
+    let html = std::fs::read_to_string(out.join("index.html")).expect("html");
+    for f in &summary.files {
+        assert!(out.join(f).exists(), "{f} missing");
+        if f.ends_with(".png") || f.ends_with(".wav") {
+            assert!(md.contains(f.as_str()), "{f} not referenced in index.md");
+            assert!(
+                html.contains(f.as_str()),
+                "{f} not referenced in index.html"
+            );
+        }
+    }
+    for f in [
+        "vibration_lateral_psd.png",
+        "wps_case1_lateral.png",
+        "wps_case3_longitudinal.png",
+        "contact_forces_case3.png",
+        "modes.png",
+        "case1_lateral.wav",
+    ] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    // The mode table identifies the (0,3) peak of the lateral vibration.
+    assert!(md.contains("| (0,3) | Axial |"), "{md}");
+    assert!(md.contains("wall_time_s"));
+}
+
+#[test]
+fn report_without_histories_is_an_input_error() {
+    let root = std::env::temp_dir().join(format!("squeal-report-empty-{}", std::process::id()));
+    std::fs::create_dir_all(&root).expect("dir");
+    let e = build_report(&[root.clone()], &root.join("out"), "x").expect_err("no histories");
+    assert!(e.to_string().contains("histories.csv"));
+    assert_eq!(e.exit_code(), 2);
+}
