@@ -125,7 +125,7 @@ fn wavelet_chart(
     let wp = morlet_cwt(signal, sample_rate_hz, &scales)?;
     // Columns: at most 400 time bins (mean power per bin); rows ascending in frequency.
     let nt = wp.time_count;
-    let bins = nt.min(400).max(1);
+    let bins = nt.clamp(1, 400);
     let nf = wp.frequency_count();
     let mut order: Vec<usize> = (0..nf).collect();
     order.sort_by(|&a, &b| wp.frequency_hz[a].total_cmp(&wp.frequency_hz[b]));
