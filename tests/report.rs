@@ -121,7 +121,8 @@ fn report_has_every_section_and_file() {
 fn report_without_histories_is_an_input_error() {
     let root = std::env::temp_dir().join(format!("squeal-report-empty-{}", std::process::id()));
     std::fs::create_dir_all(&root).expect("dir");
-    let e = build_report(&[root.clone()], &root.join("out"), "x").expect_err("no histories");
+    let e = build_report(std::slice::from_ref(&root), &root.join("out"), "x")
+        .expect_err("no histories");
     assert!(e.to_string().contains("histories.csv"));
     assert_eq!(e.exit_code(), 2);
 }
