@@ -5,4 +5,5 @@
 //! name says otherwise (e.g. `_mm` in profile tables).
 
 pub mod error;
+pub mod kalker;
 pub use error::{Error, Result};
