@@ -11,11 +11,15 @@ struct Cli {
 }
 
 #[derive(Subcommand)]
-enum Command {}
+enum Command {
+    /// Kalker's rolling contact theory: Hertz, creep forces, force-prescribed creepages.
+    Kalker(cli::kalker::KalkerArgs),
+}
 
 fn main() {
     let cli = Cli::parse();
     let result: squeal::Result<()> = match cli.command {
+        Some(Command::Kalker(args)) => cli::kalker::run(args),
         None => Ok(()),
     };
     if let Err(e) = result {

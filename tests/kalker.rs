@@ -90,3 +90,56 @@ fn exact_normal_solver_reproduces_hertz() {
     // 2 % (brief): discretisation error of piecewise-constant pressure on ~27 elements per semi-axis.
     assert!(errors.iter().all(|&e| e < 0.02), "{errors:?}");
 }
+
+#[test]
+fn explore_tangential() {
+    let hertz = reference_contact(100e3);
+    let start = std::time::Instant::now();
+    let solver = RollingSolver::new(&hertz, 0.3, Method::Exact, 60).unwrap();
+    println!("setup {:?}", start.elapsed());
+    let g = Material::STEEL.shear_modulus_pa();
+    let c2 = hertz.semi_axis_a_m * hertz.semi_axis_b_m;
+    let coefficients =
+        kalker_creep_coefficients(hertz.semi_axis_a_m / hertz.semi_axis_b_m, 0.3).unwrap();
+    println!("coefficients {coefficients:?}");
+    for xi in [1e-6, 1e-4, 1e-3, 3e-3, 1e-2] {
+        let start = std::time::Instant::now();
+        let s = solver
+            .solve(&Creepages {
+                xi,
+                eta: 0.0,
+                phi_per_m: 0.0,
+            })
+            .unwrap();
+        println!(
+            "xi {xi}: Fx/(mu Fn) {:.5} C11_eff {:.4} Fy {:.3e} adhesion {:.3} {:?}",
+            s.force_x_n / (0.3 * 100e3),
+            -s.force_x_n / (g * c2 * xi),
+            s.force_y_n,
+            s.adhesion_area_fraction(),
+            start.elapsed()
+        );
+    }
+    for eta in [1e-6, 1e-3] {
+        let s = solver
+            .solve(&Creepages {
+                xi: 0.0,
+                eta,
+                phi_per_m: 0.0,
+            })
+            .unwrap();
+        println!("eta {eta}: C22_eff {:.4}", -s.force_y_n / (g * c2 * eta));
+    }
+    let phi = 1e-4;
+    let s = solver
+        .solve(&Creepages {
+            xi: 0.0,
+            eta: 0.0,
+            phi_per_m: phi,
+        })
+        .unwrap();
+    println!(
+        "phi {phi}: C23_eff {:.4}",
+        -s.force_y_n / (g * c2 * c2.sqrt() * phi)
+    );
+}
