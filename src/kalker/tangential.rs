@@ -12,18 +12,20 @@
 //! field of the whole patch. Conditions per element with traction bound `g_I = mu pn_I`:
 //! adhesion `S_I = 0, |p_I| <= g_I`; slip `p_I = -g_I S_I / |S_I|`.
 //!
-//! Solver: an active-set iteration in the manner of Kalker's TANG (1990, section 5.4): with the
-//! element division into adhesion (H) and slip (S) elements and the slip directions n fixed, the
-//! slip tractions are `p = -g n` and the adhesion tractions solve the linear system
-//! `C_HH p_H = -(dx w + C_HS p_S)` (here by restarted GMRES with FFT products: the system is
-//! non-symmetric). Then adhesion elements whose traction exceeds the bound become slip elements
-//! (direction `-p/|p|`), slip elements whose slip opposes their traction (`S . n < 0`) return to
-//! adhesion, and slip directions are updated from the element's local problem (slip with its own
-//! contribution removed, `S0 = S - d p`; solving `S = S0 + d p`, `p = -g S/|S|` exactly), under-
-//! relaxed, until nothing changes. The plain update `n <- S/|S|` is unstable because an element's
-//! own traction dominates its slip. (A Gauss-Seidel
-//! march from the leading edge was tried first and is unstable: marching the first-order
-//! difference of the half-space operator amplifies errors from column to column.)
+//! Solver: Newton's method combined with an active set, in the manner of Kalker's TANG (1990,
+//! section 5.4). Unknowns: tractions `p_H` of adhesion elements and slip angles `theta` of slip
+//! elements (`p = -g n`, `n = (cos theta, sin theta)`). Equations: `S_H = 0`, and `t . S = 0` on
+//! slip elements (`t = (-n_y, n_x)`: slip parallel to n). Each Newton step solves the Jacobian
+//! system matrix-free by right-preconditioned restarted GMRES (the system is non-symmetric) with
+//! FFT influence products; rotations are damped to 0.5 rad. Between steps the element division
+//! is updated: adhesion elements whose traction exceeds the bound slip (direction `-p/|p|`);
+//! slip elements whose local sticking traction (`-S0/d`, own contribution removed) fits within
+//! the bound stick again. Converged when the division is unchanged and the residual is below
+//! `relative_tolerance` times the rigid-slip norm.
+//! (Tried first and rejected: a Gauss-Seidel march from the leading edge, unstable because
+//! marching the first-order difference of the half-space operator amplifies errors from column to
+//! column; and fixed-point updates `n <- S/|S|` of the slip directions, which oscillate because an
+//! element's own traction dominates its slip.)
 
 use super::halfspace::{tangential_influence, Convolver, Grid, OffsetKernel};
 use super::Material;
@@ -70,9 +72,6 @@ impl ElementState {
 /// discretisation error (its bound is tiny).
 const MAX_RETURNS_TO_ADHESION: u32 = 2;
 
-/// Under-relaxation factor of the slip-direction update.
-const DIRECTION_RELAXATION: f64 = 0.5;
-
 /// Iteration controls.
 #[derive(Debug, Clone, Copy)]
 pub struct TangentialOptions {
@@ -89,7 +88,7 @@ impl Default for TangentialOptions {
         TangentialOptions {
             relative_tolerance: 1e-12,
             direction_tolerance: 1e-9,
-            max_sweeps: 500,
+            max_sweeps: 300,
         }
     }
 }
@@ -121,52 +120,11 @@ pub struct TangentialSolver {
     convolver: Convolver,
 }
 
-/// Outcome of the local problem at one element.
-struct LocalSolution {
-    traction: [f64; 2],
-    slipping: bool,
-}
-
-/// Local 2x2 problem: slip `S = S0 + diag(d) p`, bound g. Adhesion if the sticking traction
-/// `-S0/d` is within the bound; otherwise `p = -g n`, `S = sigma n`, which gives
-/// `n_k = S0_k / (sigma + g d_k)` and `|n| = 1`, a convex decreasing equation in sigma >= 0 solved
-/// by Newton from sigma = 0 (monotone convergence).
-fn solve_local(
-    slip_without_self: [f64; 2],
-    self_influence: [f64; 2],
-    bound_pa: f64,
-) -> LocalSolution {
-    let sticking = [
-        -slip_without_self[0] / self_influence[0],
-        -slip_without_self[1] / self_influence[1],
-    ];
-    if sticking[0].hypot(sticking[1]) <= bound_pa {
-        return LocalSolution {
-            traction: sticking,
-            slipping: false,
-        };
-    }
-    let mut sigma = 0.0_f64;
-    for _ in 0..100 {
-        let nx = slip_without_self[0] / (sigma + bound_pa * self_influence[0]);
-        let ny = slip_without_self[1] / (sigma + bound_pa * self_influence[1]);
-        let residual = nx * nx + ny * ny - 1.0;
-        let derivative = -2.0
-            * (nx * nx / (sigma + bound_pa * self_influence[0])
-                + ny * ny / (sigma + bound_pa * self_influence[1]));
-        let step = residual / derivative;
-        sigma -= step;
-        if step.abs() <= 1e-15 * sigma.abs().max(f64::MIN_POSITIVE) {
-            break;
-        }
-    }
-    let nx = slip_without_self[0] / (sigma + bound_pa * self_influence[0]);
-    let ny = slip_without_self[1] / (sigma + bound_pa * self_influence[1]);
-    let length = nx.hypot(ny);
-    LocalSolution {
-        traction: [-bound_pa * nx / length, -bound_pa * ny / length],
-        slipping: true,
-    }
+/// Local adhesion test: with the element's own contribution removed (`S0 = S - d p`), the element
+/// can stick iff the traction that zeroes its slip, `-S0/d`, lies within the bound g.
+fn sticks_locally(slip_without_self: [f64; 2], self_influence: [f64; 2], bound_pa: f64) -> bool {
+    (slip_without_self[0] / self_influence[0]).hypot(slip_without_self[1] / self_influence[1])
+        <= bound_pa
 }
 
 impl TangentialSolver {
@@ -264,179 +222,89 @@ impl TangentialSolver {
             }
         }
         let rigid_slip = self.rigid_slip_distances(creepages);
-        // Inexact inner solves: the GMRES tolerance follows the largest slip-direction change of
-        // the previous iteration (no point in solving to 1e-12 while the directions still move).
-        let mut largest_turn = 1.0_f64;
-        let mut last_tolerance = 1.0_f64;
-        let mut total_krylov = 0;
+        let rigid_norm = rigid_slip[0]
+            .iter()
+            .chain(&rigid_slip[1])
+            .map(|v| v * v)
+            .sum::<f64>()
+            .sqrt()
+            .max(f64::MIN_POSITIVE);
+        let self_influence = self.self_influence;
         let mut returns_to_adhesion = vec![0_u32; n];
+        let mut total_products = 0;
         for outer in 1..=options.max_sweeps {
-            // Slip elements carry p = -g n; adhesion elements are the unknowns of C_HH p_H = rhs.
-            for k in 0..n {
-                if state[k] == ElementState::Slip {
-                    traction_x_pa[k] = -bound_pa[k] * slip_direction[k][0];
-                    traction_y_pa[k] = -bound_pa[k] * slip_direction[k][1];
-                } else if state[k] == ElementState::Exterior {
-                    traction_x_pa[k] = 0.0;
-                    traction_y_pa[k] = 0.0;
-                }
-            }
-            let adhesion: Vec<usize> = (0..n)
-                .filter(|&k| state[k] == ElementState::Adhesion)
-                .collect();
-            if !adhesion.is_empty() {
-                // Right-hand side: -(dx w + C p_S) on H, from the slip tractions alone.
-                let mut slip_only_x = traction_x_pa.clone();
-                let mut slip_only_y = traction_y_pa.clone();
-                for &k in &adhesion {
-                    slip_only_x[k] = 0.0;
-                    slip_only_y[k] = 0.0;
-                }
-                let [from_slip_x, from_slip_y] = self.apply_influence(&slip_only_x, &slip_only_y);
-                let mut rhs = Vec::with_capacity(2 * adhesion.len());
-                for &k in &adhesion {
-                    rhs.push(-(rigid_slip[0][k] + from_slip_x[k]));
-                }
-                for &k in &adhesion {
-                    rhs.push(-(rigid_slip[1][k] + from_slip_y[k]));
-                }
-                let mut unknown: Vec<f64> = adhesion
-                    .iter()
-                    .map(|&k| traction_x_pa[k])
-                    .chain(adhesion.iter().map(|&k| traction_y_pa[k]))
-                    .collect();
-                let operator = |vector: &[f64]| -> Vec<f64> {
-                    let mut field_x = vec![0.0; n];
-                    let mut field_y = vec![0.0; n];
-                    for (position, &k) in adhesion.iter().enumerate() {
-                        field_x[k] = vector[position];
-                        field_y[k] = vector[position + adhesion.len()];
-                    }
-                    let [result_x, result_y] = self.apply_influence(&field_x, &field_y);
-                    adhesion
-                        .iter()
-                        .map(|&k| result_x[k])
-                        .chain(adhesion.iter().map(|&k| result_y[k]))
-                        .collect()
-                };
-                // Preconditioner: the dominant part of C, self term plus the (negated) same term of the
-                // upstream element, `d (q_i - q_upstream) = r_i`, inverted by marching from the
-                // leading edge (FASTSIM-like). It turns C ~ A d/dx into ~ A/d, much better
-                // conditioned.
-                let count = adhesion.len();
-                let mut upstream_position = vec![usize::MAX; count];
-                {
-                    let mut position_of = vec![usize::MAX; n];
-                    for (position, &k) in adhesion.iter().enumerate() {
-                        position_of[k] = position;
-                    }
-                    for (position, &k) in adhesion.iter().enumerate() {
-                        if k + grid.ny < n {
-                            upstream_position[position] = position_of[k + grid.ny];
-                        }
-                    }
-                }
-                let preconditioner = |vector: &[f64]| -> Vec<f64> {
-                    let mut result = vec![0.0; 2 * count];
-                    // Adhesion positions are ordered by increasing x: march backwards.
-                    for position in (0..count).rev() {
-                        let upstream = upstream_position[position];
-                        for component in 0..2 {
-                            let previous = if upstream != usize::MAX {
-                                result[upstream + component * count]
-                            } else {
-                                0.0
-                            };
-                            result[position + component * count] = previous
-                                + vector[position + component * count]
-                                    / self.self_influence[component];
-                        }
-                    }
-                    result
-                };
-                let tolerance = (1e-3 * largest_turn).clamp(options.relative_tolerance, 1e-4);
-                last_tolerance = tolerance;
-                total_krylov += gmres(
-                    operator,
-                    preconditioner,
-                    &rhs,
-                    &mut unknown,
-                    tolerance,
-                    60,
-                    200,
-                )?;
-                for (position, &k) in adhesion.iter().enumerate() {
-                    traction_x_pa[k] = unknown[position];
-                    traction_y_pa[k] = unknown[position + adhesion.len()];
-                }
-            }
-            // Check the Coulomb conditions and update the element division and slip directions.
-            let [influence_x, influence_y] = self.apply_influence(&traction_x_pa, &traction_y_pa);
-            let mut changes = 0;
-            largest_turn = 0.0;
             for k in 0..n {
                 match state[k] {
-                    ElementState::Exterior => {}
+                    ElementState::Slip => {
+                        traction_x_pa[k] = -bound_pa[k] * slip_direction[k][0];
+                        traction_y_pa[k] = -bound_pa[k] * slip_direction[k][1];
+                    }
+                    ElementState::Exterior => {
+                        traction_x_pa[k] = 0.0;
+                        traction_y_pa[k] = 0.0;
+                    }
+                    ElementState::Adhesion => {}
+                }
+            }
+            let [influence_x, influence_y] = self.apply_influence(&traction_x_pa, &traction_y_pa);
+            total_products += 1;
+            let slip_x: Vec<f64> = (0..n).map(|k| rigid_slip[0][k] + influence_x[k]).collect();
+            let slip_y: Vec<f64> = (0..n).map(|k| rigid_slip[1][k] + influence_y[k]).collect();
+
+            // Element division update (Kalker's TANG): too large adhesion tractions slip; slip
+            // elements whose slip opposes their traction (n . S < 0) stick again.
+            let mut changes = 0;
+            for k in 0..n {
+                match state[k] {
                     ElementState::Adhesion => {
                         let magnitude = traction_x_pa[k].hypot(traction_y_pa[k]);
                         if magnitude > bound_pa[k] * (1.0 + 1e-12) {
                             state[k] = ElementState::Slip;
                             slip_direction[k] =
                                 [-traction_x_pa[k] / magnitude, -traction_y_pa[k] / magnitude];
+                            traction_x_pa[k] = -bound_pa[k] * slip_direction[k][0];
+                            traction_y_pa[k] = -bound_pa[k] * slip_direction[k][1];
                             changes += 1;
-                            largest_turn = 1.0;
                         }
                     }
                     ElementState::Slip => {
-                        // Local problem with the element's own contribution removed (S0 = S - d p):
-                        // the self term dominates the slip of a slip element, so the plain
-                        // update n <- S/|S| is unstable; the local solution is not.
-                        let self_influence = self.self_influence;
+                        // The local problem with the element's own contribution removed decides.
                         let without_self = [
-                            rigid_slip[0][k] + influence_x[k]
-                                - self_influence[0] * traction_x_pa[k],
-                            rigid_slip[1][k] + influence_y[k]
-                                - self_influence[1] * traction_y_pa[k],
+                            slip_x[k] - self_influence[0] * traction_x_pa[k],
+                            slip_y[k] - self_influence[1] * traction_y_pa[k],
                         ];
-                        let local = solve_local(without_self, self_influence, bound_pa[k]);
-                        if !local.slipping {
-                            if returns_to_adhesion[k] < MAX_RETURNS_TO_ADHESION {
-                                state[k] = ElementState::Adhesion;
-                                returns_to_adhesion[k] += 1;
-                                changes += 1;
-                                largest_turn = 1.0;
-                            }
-                        } else {
-                            let target = [
-                                -local.traction[0] / bound_pa[k],
-                                -local.traction[1] / bound_pa[k],
-                            ];
-                            let turn = (target[0] - slip_direction[k][0])
-                                .hypot(target[1] - slip_direction[k][1]);
-                            // Under-relaxed (all slip elements move at once, Jacobi-like).
-                            let relaxed = [
-                                slip_direction[k][0]
-                                    + DIRECTION_RELAXATION * (target[0] - slip_direction[k][0]),
-                                slip_direction[k][1]
-                                    + DIRECTION_RELAXATION * (target[1] - slip_direction[k][1]),
-                            ];
-                            let length = relaxed[0].hypot(relaxed[1]).max(f64::MIN_POSITIVE);
-                            let direction = [relaxed[0] / length, relaxed[1] / length];
-                            largest_turn = largest_turn.max(turn);
-                            if turn > options.direction_tolerance {
-                                changes += 1;
-                            }
-                            slip_direction[k] = direction;
+                        if sticks_locally(without_self, self_influence, bound_pa[k])
+                            && returns_to_adhesion[k] < MAX_RETURNS_TO_ADHESION
+                        {
+                            state[k] = ElementState::Adhesion;
+                            returns_to_adhesion[k] += 1;
+                            changes += 1;
                         }
                     }
+                    ElementState::Exterior => {}
                 }
             }
-            if changes == 0 && last_tolerance > options.relative_tolerance && !adhesion.is_empty() {
-                // Converged with an inexact inner solve: finish with a tight one.
-                largest_turn = 0.0;
-                continue;
+            if changes > 0 {
+                continue; // recompute the slip with the new division
             }
-            if changes == 0 {
+
+            // Newton residual: S = 0 on adhesion elements, t . S = 0 (slip parallel to n) on slip
+            // elements, t = (-n_y, n_x).
+            let adhesion: Vec<usize> = (0..n)
+                .filter(|&k| state[k] == ElementState::Adhesion)
+                .collect();
+            let slipping: Vec<usize> = (0..n).filter(|&k| state[k] == ElementState::Slip).collect();
+            let (count_h, count_s) = (adhesion.len(), slipping.len());
+            let mut residual = Vec::with_capacity(2 * count_h + count_s);
+            residual.extend(adhesion.iter().map(|&k| slip_x[k]));
+            residual.extend(adhesion.iter().map(|&k| slip_y[k]));
+            residual.extend(
+                slipping
+                    .iter()
+                    .map(|&k| -slip_direction[k][1] * slip_x[k] + slip_direction[k][0] * slip_y[k]),
+            );
+            let residual_norm = residual.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if residual_norm <= options.relative_tolerance * rigid_norm {
                 let area_m2 = grid.element_area_m2();
                 let force_x_n = traction_x_pa.iter().sum::<f64>() * area_m2;
                 let force_y_n = traction_y_pa.iter().sum::<f64>() * area_m2;
@@ -447,12 +315,119 @@ impl TangentialSolver {
                     force_x_n,
                     force_y_n,
                     sweeps: outer,
-                    influence_products: total_krylov,
+                    influence_products: total_products,
                 });
+            }
+            // Along-slip magnitude sigma = n . S (>= 0 for a consistent slip element).
+            let sigma: Vec<f64> = slipping
+                .iter()
+                .map(|&k| {
+                    (slip_direction[k][0] * slip_x[k] + slip_direction[k][1] * slip_y[k]).max(0.0)
+                })
+                .collect();
+            // Jacobian-vector product of the residual w.r.t. (p_H, theta_S):
+            // dp = v on H, dp = -g t dtheta on S; rows C dp on H, t . C dp - sigma dtheta on S.
+            let jacobian = |vector: &[f64]| -> Vec<f64> {
+                let mut field_x = vec![0.0; n];
+                let mut field_y = vec![0.0; n];
+                for (position, &k) in adhesion.iter().enumerate() {
+                    field_x[k] = vector[position];
+                    field_y[k] = vector[position + count_h];
+                }
+                for (position, &k) in slipping.iter().enumerate() {
+                    let turn = vector[2 * count_h + position];
+                    field_x[k] = bound_pa[k] * slip_direction[k][1] * turn; // -g t_x, t_x = -n_y
+                    field_y[k] = -bound_pa[k] * slip_direction[k][0] * turn; // -g t_y, t_y = n_x
+                }
+                let [product_x, product_y] = self.apply_influence(&field_x, &field_y);
+                let mut result = Vec::with_capacity(2 * count_h + count_s);
+                result.extend(adhesion.iter().map(|&k| product_x[k]));
+                result.extend(adhesion.iter().map(|&k| product_y[k]));
+                for (position, &k) in slipping.iter().enumerate() {
+                    let tangential =
+                        -slip_direction[k][1] * product_x[k] + slip_direction[k][0] * product_y[k];
+                    result.push(tangential - sigma[position] * vector[2 * count_h + position]);
+                }
+                result
+            };
+            // Preconditioner: FASTSIM-like march on the adhesion part (self term plus upstream
+            // neighbour, the dominant part of C ~ A d/dx), diagonal on the slip part.
+            let mut upstream_position = vec![usize::MAX; count_h];
+            {
+                let mut position_of = vec![usize::MAX; n];
+                for (position, &k) in adhesion.iter().enumerate() {
+                    position_of[k] = position;
+                }
+                for (position, &k) in adhesion.iter().enumerate() {
+                    if k + grid.ny < n {
+                        upstream_position[position] = position_of[k + grid.ny];
+                    }
+                }
+            }
+            let slip_diagonal: Vec<f64> = slipping
+                .iter()
+                .enumerate()
+                .map(|(position, &k)| {
+                    let (tx, ty) = (-slip_direction[k][1], slip_direction[k][0]);
+                    let diagonal = -(sigma[position]
+                        + bound_pa[k]
+                            * (tx * tx * self_influence[0] + ty * ty * self_influence[1]));
+                    if diagonal.abs() > 0.0 {
+                        diagonal
+                    } else {
+                        -f64::MIN_POSITIVE
+                    }
+                })
+                .collect();
+            let preconditioner = |vector: &[f64]| -> Vec<f64> {
+                let mut result = vec![0.0; 2 * count_h + count_s];
+                // Adhesion positions are ordered by increasing x: march backwards.
+                for position in (0..count_h).rev() {
+                    let upstream = upstream_position[position];
+                    for component in 0..2 {
+                        let previous = if upstream != usize::MAX {
+                            result[upstream + component * count_h]
+                        } else {
+                            0.0
+                        };
+                        result[position + component * count_h] = previous
+                            + vector[position + component * count_h] / self_influence[component];
+                    }
+                }
+                for position in 0..count_s {
+                    result[2 * count_h + position] =
+                        vector[2 * count_h + position] / slip_diagonal[position];
+                }
+                result
+            };
+            let rhs: Vec<f64> = residual.iter().map(|v| -v).collect();
+            let mut step = vec![0.0; 2 * count_h + count_s];
+            // Inexact Newton: a modest relative tolerance is enough far from the solution.
+            let tolerance =
+                (0.1 * residual_norm / rigid_norm).clamp(1e-3 * options.relative_tolerance, 1e-4);
+            total_products += gmres(
+                jacobian,
+                preconditioner,
+                &rhs,
+                &mut step,
+                tolerance,
+                60,
+                100,
+            )?;
+            for (position, &k) in adhesion.iter().enumerate() {
+                traction_x_pa[k] += step[position];
+                traction_y_pa[k] += step[position + count_h];
+            }
+            for (position, &k) in slipping.iter().enumerate() {
+                // Damped rotation of the slip direction (at most 0.5 rad per step).
+                let turn = step[2 * count_h + position].clamp(-0.5, 0.5);
+                let (cos_turn, sin_turn) = (turn.cos(), turn.sin());
+                let [nx, ny] = slip_direction[k];
+                slip_direction[k] = [nx * cos_turn - ny * sin_turn, nx * sin_turn + ny * cos_turn];
             }
         }
         Err(Error::Numerical(format!(
-            "tangential problem did not converge in {} active-set iterations",
+            "tangential problem did not converge in {} Newton / active-set iterations",
             options.max_sweeps
         )))
     }
