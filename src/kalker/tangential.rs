@@ -449,19 +449,8 @@ impl TangentialSolver {
 
     /// `C p` for both components (FFT products).
     fn apply_influence(&self, traction_x_pa: &[f64], traction_y_pa: &[f64]) -> [Vec<f64>; 2] {
-        let spectrum_x = self.convolver.field_spectrum(traction_x_pa);
-        let spectrum_y = self.convolver.field_spectrum(traction_y_pa);
-        let [xx, xy, yy] = &self.spectra;
-        let combined_x: Vec<Complex<f64>> = (0..xx.len())
-            .map(|k| xx[k] * spectrum_x[k] + xy[k] * spectrum_y[k])
-            .collect();
-        let combined_y: Vec<Complex<f64>> = (0..xx.len())
-            .map(|k| xy[k] * spectrum_x[k] + yy[k] * spectrum_y[k])
-            .collect();
-        [
-            self.convolver.to_field(combined_x),
-            self.convolver.to_field(combined_y),
-        ]
+        self.convolver
+            .convolve_pair(&self.spectra, traction_x_pa, traction_y_pa)
     }
 }
 
