@@ -117,10 +117,12 @@ pub fn solve_force_prescribed(
         }
         // Central differences, step small against the creepage scale.
         let step = 1e-5 * creepage_scale.max(xi.hypot(eta));
-        let fx_plus = solver.forces(&creep_of(xi + step, eta))?;
-        let fx_minus = solver.forces(&creep_of(xi - step, eta))?;
-        let fe_plus = solver.forces(&creep_of(xi, eta + step))?;
-        let fe_minus = solver.forces(&creep_of(xi, eta - step))?;
+        // Perturbed solutions start from the base solution (cheap for the exact solver).
+        let base = solver.solve(&creep_of(xi, eta))?;
+        let fx_plus = solver.forces_warm(&creep_of(xi + step, eta), Some(&base))?;
+        let fx_minus = solver.forces_warm(&creep_of(xi - step, eta), Some(&base))?;
+        let fe_plus = solver.forces_warm(&creep_of(xi, eta + step), Some(&base))?;
+        let fe_minus = solver.forces_warm(&creep_of(xi, eta - step), Some(&base))?;
         let j11 = (fx_plus.0 - fx_minus.0) / (2.0 * step);
         let j21 = (fx_plus.1 - fx_minus.1) / (2.0 * step);
         let j12 = (fe_plus.0 - fe_minus.0) / (2.0 * step);
@@ -141,7 +143,9 @@ pub fn solve_force_prescribed(
         let old_norm = residual.0.hypot(residual.1);
         let mut accepted = false;
         for _ in 0..40 {
-            let trial = residual_of(solver.forces(&creep_of(xi + delta_xi, eta + delta_eta))?);
+            let trial = residual_of(
+                solver.forces_warm(&creep_of(xi + delta_xi, eta + delta_eta), Some(&base))?,
+            );
             if trial.0.hypot(trial.1) < old_norm {
                 xi += delta_xi;
                 eta += delta_eta;

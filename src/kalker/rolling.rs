@@ -240,6 +240,26 @@ impl RollingSolver {
 
     /// Full forward solution for the creepages.
     pub fn solve(&self, creepages: &Creepages) -> Result<RollingContactSolution> {
+        self.solve_warm(creepages, None)
+    }
+
+    /// Creep forces, warm-started from a nearby solution of the same solver (exact method: its
+    /// tractions and element division are the starting point of the Newton iteration).
+    pub fn forces_warm(
+        &self,
+        creepages: &Creepages,
+        warm: Option<&RollingContactSolution>,
+    ) -> Result<(f64, f64)> {
+        let solution = self.solve_warm(creepages, warm)?;
+        Ok((solution.force_x_n, solution.force_y_n))
+    }
+
+    /// [`RollingSolver::solve`] with an optional warm start (ignored by FASTSIM, which is direct).
+    pub fn solve_warm(
+        &self,
+        creepages: &Creepages,
+        warm: Option<&RollingContactSolution>,
+    ) -> Result<RollingContactSolution> {
         for (value, name) in [
             (creepages.xi, "--xi"),
             (creepages.eta, "--eta"),
@@ -260,8 +280,13 @@ impl RollingSolver {
                 tangential,
                 options,
             } => {
-                let solution =
-                    tangential.solve(&normal.pressure_pa, self.mu, creepages, options, None)?;
+                let solution = tangential.solve(
+                    &normal.pressure_pa,
+                    self.mu,
+                    creepages,
+                    options,
+                    warm.map(|w| (w.traction_x_pa.as_slice(), w.traction_y_pa.as_slice())),
+                )?;
                 let mut x_m = Vec::with_capacity(grid.len());
                 let mut y_m = Vec::with_capacity(grid.len());
                 for i in 0..grid.nx {

@@ -215,7 +215,7 @@ impl TangentialSolver {
             if state[k] == ElementState::Exterior {
                 traction_x_pa[k] = 0.0;
                 traction_y_pa[k] = 0.0;
-            } else if traction_x_pa[k].hypot(traction_y_pa[k]) >= bound_pa[k] {
+            } else if traction_x_pa[k].hypot(traction_y_pa[k]) >= bound_pa[k] * (1.0 - 1e-9) {
                 let magnitude = traction_x_pa[k].hypot(traction_y_pa[k]);
                 slip_direction[k] = [-traction_x_pa[k] / magnitude, -traction_y_pa[k] / magnitude];
                 state[k] = ElementState::Slip;
