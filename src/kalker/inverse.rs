@@ -176,7 +176,11 @@ pub fn solve_force_prescribed(
     )))
 }
 
-/// Saturated forces: smallest creepage magnitude along `-F` at which `|F| >= mu Fn (1 - tol)`.
+/// Saturated forces: the smallest creepage magnitude at which `|F| >= mu Fn (1 - 1e-6)`, with the
+/// creepage direction adjusted so that the force points along the target. (The force direction
+/// at saturation is not always opposite to the creepage: FASTSIM's flexibilities differ in x
+/// and y, and spin adds its own contribution.) Each trial magnitude turns the creepage angle by
+/// the force-angle error until they agree to 1e-9 rad, then bisects on the magnitude.
 fn saturated(
     solver: &RollingSolver,
     force_x_n: f64,
@@ -185,40 +189,62 @@ fn saturated(
     linear_magnitude: f64,
     limit_n: f64,
 ) -> Result<ForcePrescribedResult> {
-    let tangential_n = force_x_n.hypot(force_y_n);
-    let (direction_x, direction_y) = (-force_x_n / tangential_n, -force_y_n / tangential_n);
-    let creep_of = |magnitude: f64| Creepages {
-        xi: magnitude * direction_x,
-        eta: magnitude * direction_y,
+    let target_angle = (-force_y_n).atan2(-force_x_n); // creepage roughly opposes the force
+    let creep_of = |magnitude: f64, angle: f64| Creepages {
+        xi: magnitude * angle.cos(),
+        eta: magnitude * angle.sin(),
         phi_per_m,
     };
-    let saturated_at = |magnitude: f64| -> Result<bool> {
-        let (fx, fy) = solver.forces(&creep_of(magnitude))?;
-        Ok(fx.hypot(fy) >= limit_n * (1.0 - 1e-6))
+    let wrap = |angle: f64| {
+        (angle + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI) - std::f64::consts::PI
+    };
+    // At a given magnitude: the creepage angle that aligns the force, and whether it saturates.
+    let aligned = |magnitude: f64, mut angle: f64| -> Result<(f64, bool, f64)> {
+        let mut force = solver.forces(&creep_of(magnitude, angle))?;
+        for _ in 0..60 {
+            let error = wrap(target_angle - (-force.1).atan2(-force.0));
+            if error.abs() < 1e-9 {
+                break;
+            }
+            angle += error;
+            force = solver.forces(&creep_of(magnitude, angle))?;
+        }
+        let magnitude_n = force.0.hypot(force.1);
+        Ok((angle, magnitude_n >= limit_n * (1.0 - 1e-6), magnitude_n))
     };
     let mut high = linear_magnitude.max(1e-9);
+    let mut angle = target_angle;
     let mut doublings = 0;
-    while !saturated_at(high)? {
+    loop {
+        let (new_angle, saturated_here, _) = aligned(high, angle)?;
+        angle = new_angle;
+        if saturated_here {
+            break;
+        }
         high *= 2.0;
         doublings += 1;
         if doublings > 60 {
-            return Err(Error::Numerical("saturation creepage not found".into()));
+            return Err(Error::Numerical(
+                "saturation creepage not found (with spin the force may approach mu Fn only asymptotically)".into(),
+            ));
         }
     }
     let mut low = 0.0;
     let mut steps = 0;
     while high - low > 1e-6 * high && steps < 60 {
         let mid = 0.5 * (low + high);
-        if saturated_at(mid)? {
+        let (mid_angle, saturated_here, _) = aligned(mid, angle)?;
+        if saturated_here {
             high = mid;
+            angle = mid_angle;
         } else {
             low = mid;
         }
         steps += 1;
     }
-    let solution = solver.solve(&creep_of(high))?;
+    let solution = solver.solve(&creep_of(high, angle))?;
     Ok(ForcePrescribedResult {
-        creepages: creep_of(high),
+        creepages: creep_of(high, angle),
         unique: false,
         note: "not unique (saturated): any larger creepage in this direction gives the same force"
             .into(),
