@@ -9,6 +9,7 @@ pub mod error;
 pub mod geometry;
 pub mod identify;
 pub mod input;
+pub mod kalker;
 pub mod mesh;
 pub mod report;
 pub mod scenario;

@@ -28,6 +28,8 @@ enum Command {
     Cwt(cli::signal::CwtArgs),
     /// A CSV column as a mono 16-bit WAV file (resampled, peak at 0.9 full scale).
     Wav(cli::signal::WavArgs),
+    /// Kalker's rolling contact theory: Hertz, creep forces, force-prescribed creepages.
+    Kalker(cli::kalker::KalkerArgs),
 }
 
 fn main() {
@@ -46,6 +48,7 @@ fn main() {
         Some(Command::Psd(args)) => cli::signal::run_psd(args),
         Some(Command::Cwt(args)) => cli::signal::run_cwt(args),
         Some(Command::Wav(args)) => cli::signal::run_wav(args),
+        Some(Command::Kalker(args)) => cli::kalker::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");

@@ -2,6 +2,7 @@
 
 pub mod default_run;
 pub mod identify;
+pub mod kalker;
 pub mod mesh;
 pub mod profile;
 pub mod report;

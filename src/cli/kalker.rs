@@ -1,0 +1,274 @@
+//! `squeal kalker`: Hertz, creepage-prescribed and force-prescribed rolling contact (issue 7).
+//!
+//! `squeal kalker --fn 120e3 --fx 40e3 --fy 10e3 --mu 0.45` (no subcommand) is the
+//! force-prescribed mode, same as `squeal kalker solve ...`.
+
+use clap::{Args, Subcommand, ValueEnum};
+use serde_json::json;
+use squeal::kalker::{
+    solve_force_prescribed, Creepages, HertzContact, Material, Method, RollingContactSolution,
+    RollingSolver,
+};
+use squeal::{Error, Result};
+use std::path::PathBuf;
+
+/// Arguments of `squeal kalker`.
+#[derive(Args, Debug)]
+#[command(args_conflicts_with_subcommands = true)]
+pub struct KalkerArgs {
+    #[command(subcommand)]
+    command: Option<KalkerCommand>,
+    /// Force-prescribed mode when no subcommand is given.
+    #[command(flatten)]
+    solve: SolveArgs,
+}
+
+#[derive(Subcommand, Debug)]
+enum KalkerCommand {
+    /// Hertz contact patch for a wheel on a crowned rail.
+    Hertz(HertzArgs),
+    /// Force-prescribed: find creepages xi, eta for given Fx, Fy (as CONTACT does).
+    Solve(SolveArgs),
+    /// Creepage-prescribed: creep forces and traction for given xi, eta, phi.
+    Creep(CreepArgs),
+}
+
+/// Contact geometry, load and material shared by all modes.
+#[derive(Args, Debug, Clone)]
+struct ContactArgs {
+    /// Normal force Fn (N).
+    #[arg(long = "fn", value_name = "N")]
+    normal_force_n: Option<f64>,
+    /// Wheel rolling radius (m); flat tread assumed.
+    #[arg(long, default_value_t = 0.46)]
+    wheel_radius: f64,
+    /// Rail crown radius (m).
+    #[arg(long, default_value_t = 0.3)]
+    rail_radius: f64,
+    /// Lateral wheel position (m). Until the S1002/54E1 profiles are wired in, any value uses the
+    /// flat-tread / R300-crown curvatures (a note is printed).
+    #[arg(long)]
+    wheel_y: Option<f64>,
+    /// Young's modulus (Pa).
+    #[arg(long, default_value_t = 210e9)]
+    e: f64,
+    /// Poisson's ratio.
+    #[arg(long, default_value_t = 0.3)]
+    nu: f64,
+}
+
+#[derive(Args, Debug)]
+struct HertzArgs {
+    #[command(flatten)]
+    contact: ContactArgs,
+    /// Print JSON (the default output is JSON too; kept for scripts).
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Copy, Clone, Debug, ValueEnum)]
+enum MethodArg {
+    Exact,
+    Fastsim,
+}
+
+#[derive(Args, Debug, Clone)]
+struct SolutionArgs {
+    /// Friction coefficient.
+    #[arg(long)]
+    mu: Option<f64>,
+    /// Spin creepage phi (1/m).
+    #[arg(long, default_value_t = 0.0)]
+    phi: f64,
+    /// Theory: exact half-space (CONTACT-like) or FASTSIM.
+    #[arg(long, value_enum, default_value_t = MethodArg::Exact)]
+    method: MethodArg,
+    /// Elements (exact) or points (FASTSIM) per axis.
+    #[arg(long, default_value_t = 60)]
+    grid: usize,
+    /// Write traction/slip map CSV and summary JSON to this directory.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+#[derive(Args, Debug, Clone)]
+struct SolveArgs {
+    #[command(flatten)]
+    contact: ContactArgs,
+    #[command(flatten)]
+    solution: SolutionArgs,
+    /// Longitudinal creep force Fx on the wheel (N).
+    #[arg(long)]
+    fx: Option<f64>,
+    /// Lateral creep force Fy on the wheel (N).
+    #[arg(long)]
+    fy: Option<f64>,
+}
+
+#[derive(Args, Debug)]
+struct CreepArgs {
+    #[command(flatten)]
+    contact: ContactArgs,
+    #[command(flatten)]
+    solution: SolutionArgs,
+    /// Longitudinal creepage xi (-).
+    #[arg(long, default_value_t = 0.0)]
+    xi: f64,
+    /// Lateral creepage eta (-).
+    #[arg(long, default_value_t = 0.0)]
+    eta: f64,
+}
+
+/// Runs `squeal kalker`.
+pub fn run(args: KalkerArgs) -> Result<()> {
+    match args.command {
+        Some(KalkerCommand::Hertz(hertz)) => run_hertz(hertz),
+        Some(KalkerCommand::Solve(solve)) => run_solve(solve),
+        Some(KalkerCommand::Creep(creep)) => run_creep(creep),
+        None => run_solve(args.solve),
+    }
+}
+
+fn required(value: Option<f64>, option: &str) -> Result<f64> {
+    value.ok_or_else(|| Error::input("command line", option, "is required"))
+}
+
+fn hertz_of(contact: &ContactArgs) -> Result<HertzContact> {
+    let normal_force_n = required(contact.normal_force_n, "--fn")?;
+    squeal::kalker::validate_normal_force(normal_force_n, "command line")?;
+    let material = Material::validated(contact.e, contact.nu, "command line")?;
+    if let Some(y) = contact.wheel_y {
+        eprintln!(
+            "note: --wheel-y {y} m: S1002/54E1 profiles are not wired in yet; using a flat tread of radius {} m on a {} m rail crown",
+            contact.wheel_radius, contact.rail_radius
+        );
+    }
+    HertzContact::wheel_on_rail(
+        contact.wheel_radius,
+        contact.rail_radius,
+        normal_force_n,
+        material,
+    )
+}
+
+fn hertz_json(hertz: &HertzContact) -> serde_json::Value {
+    json!({
+        "normal_force_n": hertz.normal_force_n,
+        "semi_axis_a_m": hertz.semi_axis_a_m,
+        "semi_axis_b_m": hertz.semi_axis_b_m,
+        "peak_pressure_pa": hertz.peak_pressure_pa,
+        "approach_m": hertz.approach_m,
+        "ellipticity": hertz.ellipticity,
+    })
+}
+
+fn run_hertz(args: HertzArgs) -> Result<()> {
+    let hertz = hertz_of(&args.contact)?;
+    let _ = args.json; // JSON is the only output format.
+    println!(
+        "{}",
+        serde_json::to_string_pretty(&hertz_json(&hertz)).unwrap_or_default()
+    );
+    Ok(())
+}
+
+fn solver_of(hertz: &HertzContact, solution: &SolutionArgs) -> Result<RollingSolver> {
+    let mu = required(solution.mu, "--mu")?;
+    squeal::kalker::validate_friction(mu, "command line")?;
+    let method = match solution.method {
+        MethodArg::Exact => Method::Exact,
+        MethodArg::Fastsim => Method::Fastsim,
+    };
+    RollingSolver::new(hertz, mu, method, solution.grid)
+}
+
+fn run_solve(args: SolveArgs) -> Result<()> {
+    let hertz = hertz_of(&args.contact)?;
+    let solver = solver_of(&hertz, &args.solution)?;
+    let force_x_n = required(args.fx, "--fx")?;
+    let force_y_n = required(args.fy, "--fy")?;
+    let result = solve_force_prescribed(
+        &solver,
+        (hertz.semi_axis_a_m, hertz.semi_axis_b_m),
+        force_x_n,
+        force_y_n,
+        args.solution.phi,
+    )?;
+    let summary = json!({
+        "mode": "force-prescribed",
+        "method": solver.method().name(),
+        "xi": result.creepages.xi,
+        "eta": result.creepages.eta,
+        "phi_per_m": result.creepages.phi_per_m,
+        "unique": result.unique,
+        "note": result.note,
+        "force_x_n": result.solution.force_x_n,
+        "force_y_n": result.solution.force_y_n,
+        "normal_force_n": hertz.normal_force_n,
+        "mu": solver.mu(),
+        "adhesion_area_fraction": result.solution.adhesion_area_fraction(),
+        "hertz": hertz_json(&hertz),
+    });
+    finish(&summary, &result.solution, args.solution.out.as_ref())
+}
+
+fn run_creep(args: CreepArgs) -> Result<()> {
+    let hertz = hertz_of(&args.contact)?;
+    let solver = solver_of(&hertz, &args.solution)?;
+    let creepages = Creepages {
+        xi: args.xi,
+        eta: args.eta,
+        phi_per_m: args.solution.phi,
+    };
+    let solution = solver.solve(&creepages)?;
+    let summary = json!({
+        "mode": "creepage-prescribed",
+        "method": solver.method().name(),
+        "xi": creepages.xi,
+        "eta": creepages.eta,
+        "phi_per_m": creepages.phi_per_m,
+        "force_x_n": solution.force_x_n,
+        "force_y_n": solution.force_y_n,
+        "normal_force_n": hertz.normal_force_n,
+        "mu": solver.mu(),
+        "adhesion_area_fraction": solution.adhesion_area_fraction(),
+        "hertz": hertz_json(&hertz),
+    });
+    finish(&summary, &solution, args.solution.out.as_ref())
+}
+
+/// Prints the summary and, with `--out`, writes `traction.csv` and `summary.json`.
+fn finish(
+    summary: &serde_json::Value,
+    solution: &RollingContactSolution,
+    out: Option<&PathBuf>,
+) -> Result<()> {
+    let text = serde_json::to_string_pretty(summary).unwrap_or_default();
+    println!("{text}");
+    if let Some(directory) = out {
+        std::fs::create_dir_all(directory).map_err(|e| Error::io(directory, e))?;
+        let csv_path = directory.join("traction.csv");
+        let mut writer = csv::Writer::from_path(&csv_path)
+            .map_err(|e| Error::io(&csv_path, std::io::Error::other(e)))?;
+        let csv_error = |e: csv::Error| Error::io(&csv_path, std::io::Error::other(e));
+        writer
+            .write_record(["x_m", "y_m", "pn_pa", "px_pa", "py_pa", "state"])
+            .map_err(csv_error)?;
+        for k in 0..solution.x_m.len() {
+            writer
+                .write_record([
+                    format!("{:e}", solution.x_m[k]),
+                    format!("{:e}", solution.y_m[k]),
+                    format!("{:e}", solution.pressure_pa[k]),
+                    format!("{:e}", solution.traction_x_pa[k]),
+                    format!("{:e}", solution.traction_y_pa[k]),
+                    solution.state[k].name().to_string(),
+                ])
+                .map_err(csv_error)?;
+        }
+        writer.flush().map_err(|e| Error::io(&csv_path, e))?;
+        let summary_path = directory.join("summary.json");
+        std::fs::write(&summary_path, text + "\n").map_err(|e| Error::io(&summary_path, e))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,111 @@
+//! The `squeal kalker` command: outputs and exit codes (bad input -> 2).
+
+use std::process::Command;
+
+fn squeal(arguments: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .args(arguments)
+        .output()
+        .expect("run squeal")
+}
+
+#[test]
+fn hertz_prints_the_patch() {
+    let output = squeal(&[
+        "kalker",
+        "hertz",
+        "--fn",
+        "100e3",
+        "--wheel-radius",
+        "0.46",
+        "--rail-radius",
+        "0.3",
+        "--json",
+    ]);
+    assert!(output.status.success());
+    let value: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    // DATA.md: 7.16 x 5.39 mm, 1238 MPa.
+    assert!((value["semi_axis_a_m"].as_f64().unwrap() / 7.16e-3 - 1.0).abs() < 0.005);
+    assert!((value["semi_axis_b_m"].as_f64().unwrap() / 5.39e-3 - 1.0).abs() < 0.005);
+    assert!((value["peak_pressure_pa"].as_f64().unwrap() / 1238e6 - 1.0).abs() < 0.005);
+    assert!(value["approach_m"].as_f64().unwrap() > 0.0);
+    assert!(value["ellipticity"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn force_prescribed_default_mode_with_outputs() {
+    let directory = std::env::temp_dir().join(format!("squeal-kalker-cli-{}", std::process::id()));
+    let output = squeal(&[
+        "kalker",
+        "--fn",
+        "120e3",
+        "--fx",
+        "40e3",
+        "--fy",
+        "10e3",
+        "--mu",
+        "0.45",
+        "--wheel-y",
+        "0",
+        "--method",
+        "fastsim",
+        "--out",
+        directory.to_str().unwrap(),
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let value: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert!((value["force_x_n"].as_f64().unwrap() - 40e3).abs() < 1e-3);
+    assert!(value["xi"].as_f64().unwrap() < 0.0 && value["eta"].as_f64().unwrap() < 0.0);
+    assert_eq!(value["unique"], serde_json::Value::Bool(true));
+    let csv = std::fs::read_to_string(directory.join("traction.csv")).unwrap();
+    assert!(csv.starts_with("x_m,y_m,pn_pa,px_pa,py_pa,state"));
+    assert!(csv.contains("adhesion") && csv.contains("slip"));
+    assert!(directory.join("summary.json").exists());
+    std::fs::remove_dir_all(&directory).ok();
+}
+
+#[test]
+fn creepage_prescribed_mode() {
+    let output = squeal(&[
+        "kalker", "creep", "--fn", "100e3", "--xi", "1e-3", "--mu", "0.3", "--grid", "30",
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let value: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert!(value["force_x_n"].as_f64().unwrap() < 0.0);
+}
+
+#[test]
+fn bad_input_exits_with_code_2() {
+    for arguments in [
+        &[
+            "kalker", "--fn", "120e3", "--fx", "40e3", "--fy", "10e3", "--mu", "0",
+        ][..],
+        &[
+            "kalker", "--fn", "-1", "--fx", "40e3", "--fy", "10e3", "--mu", "0.45",
+        ][..],
+        &[
+            "kalker", "--fn", "120e3", "--fx", "60e3", "--fy", "10e3", "--mu", "0.45",
+        ][..],
+        &[
+            "kalker", "creep", "--fn", "100e3", "--xi", "1e-3", "--mu", "0.3", "--grid", "4",
+        ][..],
+        &["kalker", "hertz", "--fn", "0"][..],
+    ] {
+        let output = squeal(arguments);
+        assert_eq!(
+            output.status.code(),
+            Some(2),
+            "{arguments:?}: {}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        assert!(String::from_utf8_lossy(&output.stderr).contains("error:"));
+    }
+}
