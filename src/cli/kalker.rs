@@ -45,8 +45,10 @@ struct ContactArgs {
     /// Rail crown radius (m).
     #[arg(long, default_value_t = 0.3)]
     rail_radius: f64,
-    /// Lateral wheel position (m). Until the S1002/54E1 profiles are wired in, any value uses the
-    /// flat-tread / R300-crown curvatures (a note is printed).
+    /// Lateral position (m) of the wheel's tape circle relative to the rail centre (crown top of
+    /// the upright 54E1): the S1002 on 54E1 (1:40) contact point and its curvatures are used
+    /// instead of --wheel-radius/--rail-radius (-0.0025 is a centred wheelset: tape circles
+    /// 1500 mm apart on 1435 mm gauge).
     #[arg(long)]
     wheel_y: Option<f64>,
     /// Young's modulus (Pa).
@@ -138,9 +140,17 @@ fn hertz_of(contact: &ContactArgs) -> Result<HertzContact> {
     squeal::kalker::validate_normal_force(normal_force_n, "command line")?;
     let material = Material::validated(contact.e, contact.nu, "command line")?;
     if let Some(y) = contact.wheel_y {
+        // S1002 on 54E1 at 1:40: curvatures at the first point of contact.
+        let pc = squeal::kalker::profiles::s1002_on_54e1(y, contact.wheel_radius)?;
         eprintln!(
-            "note: --wheel-y {y} m: S1002/54E1 profiles are not wired in yet; using a flat tread of radius {} m on a {} m rail crown",
-            contact.wheel_radius, contact.rail_radius
+            "S1002 on 54E1 (1:40), tape circle at y = {y} m: contact at y = {:.4} m (S = {:.2} mm), curvatures A = {:.4}, B = {:.4} 1/m",
+            pc.contact_y_m, pc.contact_s_mm, pc.curvature_x_per_m, pc.curvature_y_per_m
+        );
+        return HertzContact::from_curvatures(
+            pc.curvature_x_per_m,
+            pc.curvature_y_per_m,
+            normal_force_n,
+            material,
         );
     }
     HertzContact::wheel_on_rail(

@@ -24,6 +24,7 @@ pub mod halfspace;
 pub mod hertz;
 pub mod inverse;
 pub mod normal;
+pub mod profiles;
 pub mod rolling;
 pub mod tangential;
 

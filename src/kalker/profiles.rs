@@ -1,0 +1,102 @@
+//! S1002 wheel on inclined 54E1 rail: the closures that [`super::geometry`] works with, the
+//! contact point for a lateral wheel position, and the Hertz curvatures there.
+//!
+//! Frame: the upright rail section's origin (crown top) is at y = 0, z = 0 and the section is
+//! inclined 1:40 towards the track centre (-y), as in the track mesh
+//! ([`crate::mesh::track::place_rail_point`]). The wheel's tape circle sits at lateral position
+//! `wheel_y_m`; the wheel radius at lateral y is `R + F(S)`, `S = (y - wheel_y) * 1000` mm.
+
+use crate::geometry::{rail54e1, s1002};
+use crate::{Error, Result};
+
+/// Height (m) of the inclined 54E1 running surface at lateral position `y_m`, or None beyond
+/// the head. The section coordinate whose rotated image lies at `y_m` is found by fixed-point
+/// iteration (the rotation is only 1:40).
+pub fn rail_top_height_m(y_m: f64) -> Option<f64> {
+    let (s, c) = rail54e1::INCLINATION_RAD.sin_cos();
+    let rotate = |ys_mm: f64, zs_mm: f64| {
+        (
+            (ys_mm * c - zs_mm * s) * 1e-3,
+            (ys_mm * s + zs_mm * c) * 1e-3,
+        )
+    };
+    let mut ys_mm = y_m * 1e3;
+    for _ in 0..6 {
+        let zs = rail54e1::top_surface_z_mm(ys_mm)?;
+        let (y, _) = rotate(ys_mm, zs);
+        ys_mm += (y_m - y) * 1e3;
+    }
+    let zs = rail54e1::top_surface_z_mm(ys_mm)?;
+    Some(rotate(ys_mm, zs).1)
+}
+
+/// Wheel radius increment F (m) at lateral position `y_m` for a tape circle at `wheel_y_m`.
+pub fn wheel_radius_offset_m(y_m: f64, wheel_y_m: f64) -> f64 {
+    s1002::height_mm((y_m - wheel_y_m) * 1e3) * 1e-3
+}
+
+/// The contact point and Hertz curvatures of S1002 (tape-circle radius `wheel_radius_m`) on
+/// 54E1 at 1:40 for the wheel's tape circle at `wheel_y_m`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProfileContact {
+    /// Lateral position of the first point of contact (m).
+    pub contact_y_m: f64,
+    /// Wheel profile coordinate S at the contact point (mm).
+    pub contact_s_mm: f64,
+    /// Curvature of the gap along x (1/m): `1 / (2 R(y0))`.
+    pub curvature_x_per_m: f64,
+    /// Curvature of the gap along y (1/m).
+    pub curvature_y_per_m: f64,
+}
+
+/// Find the first point of contact (where wheel and rail are closest when the wheel is lowered)
+/// and the Hertz curvatures there (central differences over 0.5 mm). Near a junction of the
+/// crown's arcs (R300|R80 at |y| = 10.0 mm, R80|R13 at 24.9 mm) the curvature jumps and the
+/// contact is not Hertzian: the value is then an average over the step, and the exact
+/// half-space solver on [`super::geometry::profile_gap`] is the right tool. Errors when the wheel position puts the tread off the rail
+/// head or the contact is not Hertzian there (conformal to within the curvature step).
+pub fn s1002_on_54e1(wheel_y_m: f64, wheel_radius_m: f64) -> Result<ProfileContact> {
+    if !(wheel_y_m.abs() <= 0.03) {
+        return Err(Error::input(
+            "command line",
+            "--wheel-y",
+            format!("the tape circle must be within 30 mm of the rail centre, got {wheel_y_m} m"),
+        ));
+    }
+    // Closest approach: maximise rail_top(y) + F(y) over the head (the wheel is lowered onto it).
+    let mut best: Option<(f64, f64)> = None;
+    let mut y = -0.036;
+    while y <= 0.036 {
+        if let Some(z) = rail_top_height_m(y) {
+            let s_mm = (y - wheel_y_m) * 1e3;
+            if (s1002::S_FLANGE_BACK_MM..=s1002::S_FIELD_FACE_MM).contains(&s_mm) {
+                let v = z + wheel_radius_offset_m(y, wheel_y_m);
+                if best.is_none_or(|b| v > b.1) {
+                    best = Some((y, v));
+                }
+            }
+        }
+        y += 1e-5;
+    }
+    let (y0, _) = best.ok_or_else(|| {
+        Error::input(
+            "command line",
+            "--wheel-y",
+            "no tread point above the rail head",
+        )
+    })?;
+    let rail = |y: f64| rail_top_height_m(y).unwrap_or(f64::NAN);
+    let (a, b) = super::geometry::curvatures_at(
+        wheel_radius_m,
+        |y| wheel_radius_offset_m(y, wheel_y_m),
+        rail,
+        y0,
+        5e-4,
+    )?;
+    Ok(ProfileContact {
+        contact_y_m: y0,
+        contact_s_mm: (y0 - wheel_y_m) * 1e3,
+        curvature_x_per_m: a,
+        curvature_y_per_m: b,
+    })
+}
