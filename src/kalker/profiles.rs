@@ -56,7 +56,7 @@ pub struct ProfileContact {
 /// half-space solver on [`super::geometry::profile_gap`] is the right tool. Errors when the wheel position puts the tread off the rail
 /// head or the contact is not Hertzian there (conformal to within the curvature step).
 pub fn s1002_on_54e1(wheel_y_m: f64, wheel_radius_m: f64) -> Result<ProfileContact> {
-    if !(wheel_y_m.abs() <= 0.03) {
+    if wheel_y_m.is_nan() || wheel_y_m.abs() > 0.03 {
         return Err(Error::input(
             "command line",
             "--wheel-y",
