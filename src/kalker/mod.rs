@@ -26,6 +26,7 @@ pub mod inverse;
 pub mod normal;
 pub mod profiles;
 pub mod rolling;
+pub mod snapshot;
 pub mod tangential;
 
 pub use creep_coefficients::{kalker_creep_coefficients, linear_creep_forces, CreepCoefficients};
