@@ -90,3 +90,49 @@ fn orientation_grows_with_lateral_creepage() {
     eprintln!("orientation |angle| for eta 0, -0.5e-3, -1.5e-3: {angles:?}");
     assert!(angles[0] < angles[1] && angles[1] < angles[2], "{angles:?}");
 }
+
+#[test]
+fn compare_command_writes_maps_and_rejects_bad_snapshots() {
+    let dir = std::env::temp_dir().join(format!("squeal-compare-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let snap_path = dir.join("snap.json");
+    std::fs::write(
+        &snap_path,
+        serde_json::to_string(&snapshot_from_kalker(-1e-3, -1e-3)).expect("json"),
+    )
+    .expect("write");
+    let out = dir.join("out");
+    let run = |snap: &std::path::Path| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_squeal"))
+            .args([
+                "kalker",
+                "compare",
+                "--snapshot",
+                snap.to_str().expect("utf8"),
+                "--grid",
+                "40",
+                "--out",
+                out.to_str().expect("utf8"),
+            ])
+            .output()
+            .expect("run")
+    };
+    let ok = run(&snap_path);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("comparison.json")).expect("json"))
+            .expect("parse");
+    assert!((summary["eta"].as_f64().expect("eta") + 1e-3).abs() < 1e-6);
+    assert!(out.join("patch_fe.png").exists() && out.join("patch_kalker.png").exists());
+    let mut bad = snapshot_from_kalker(-1e-3, 0.0);
+    bad.mu = 0.0;
+    let bad_path = dir.join("bad.json");
+    std::fs::write(&bad_path, serde_json::to_string(&bad).expect("json")).expect("write");
+    let b = run(&bad_path);
+    assert_eq!(b.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&b.stderr).contains("bad.json"));
+}

@@ -31,6 +31,36 @@ enum KalkerCommand {
     Solve(SolveArgs),
     /// Creepage-prescribed: creep forces and traction for given xi, eta, phi.
     Creep(CreepArgs),
+    /// Compare an FE contact-patch snapshot (JSON) with Kalker: creepages from the FE forces,
+    /// Kalker's adhesion/slip map beside the FE map, orientation angles.
+    Compare(CompareArgs),
+}
+
+#[derive(Args, Debug, Clone)]
+struct CompareArgs {
+    /// Snapshot JSON: {time_s, normal_force_n, force_x_n, force_y_n, mu,
+    /// points: [{x_m, y_m, pressure_pa, slip}]}.
+    #[arg(long)]
+    snapshot: PathBuf,
+    /// Wheel tape-circle lateral position for S1002-on-54E1 curvatures (default: flat tread
+    /// of --wheel-radius on a crown of --rail-radius).
+    #[arg(long)]
+    wheel_y: Option<f64>,
+    /// Wheel radius (m).
+    #[arg(long, default_value_t = 0.46)]
+    wheel_radius: f64,
+    /// Rail crown radius (m).
+    #[arg(long, default_value_t = 0.3)]
+    rail_radius: f64,
+    /// Theory.
+    #[arg(long, value_enum, default_value_t = MethodArg::Exact)]
+    method: MethodArg,
+    /// Elements per axis.
+    #[arg(long, default_value_t = 60)]
+    grid: usize,
+    /// Output directory (comparison.json, patch_fe.png/svg, patch_kalker.png/svg).
+    #[arg(long)]
+    out: PathBuf,
 }
 
 /// Contact geometry, load and material shared by all modes.
@@ -127,6 +157,7 @@ pub fn run(args: KalkerArgs) -> Result<()> {
         Some(KalkerCommand::Hertz(hertz)) => run_hertz(hertz),
         Some(KalkerCommand::Solve(solve)) => run_solve(solve),
         Some(KalkerCommand::Creep(creep)) => run_creep(creep),
+        Some(KalkerCommand::Compare(compare)) => run_compare(compare),
         None => run_solve(args.solve),
     }
 }
@@ -280,5 +311,56 @@ fn finish(
         let summary_path = directory.join("summary.json");
         std::fs::write(&summary_path, text + "\n").map_err(|e| Error::io(&summary_path, e))?;
     }
+    Ok(())
+}
+
+fn run_compare(args: CompareArgs) -> Result<()> {
+    use squeal::kalker::snapshot::{compare_snapshot, write_comparison_charts, PatchSnapshot};
+    let snapshot: PatchSnapshot = squeal::input::read_json(&args.snapshot)?;
+    let source = args.snapshot.display().to_string();
+    if !(snapshot.normal_force_n.is_finite() && snapshot.normal_force_n > 0.0) {
+        return Err(Error::input(
+            &source,
+            "normal_force_n",
+            format!("must be > 0 N, got {}", snapshot.normal_force_n),
+        ));
+    }
+    squeal::kalker::validate_friction(snapshot.mu, &source)?;
+    let curvatures = match args.wheel_y {
+        Some(y) => {
+            let pc = squeal::kalker::profiles::s1002_on_54e1(y, args.wheel_radius)?;
+            (pc.curvature_x_per_m, pc.curvature_y_per_m)
+        }
+        None => (0.5 / args.wheel_radius, 0.5 / args.rail_radius),
+    };
+    let material = Material::validated(210e9, 0.3, "command line")?;
+    let method = match args.method {
+        MethodArg::Exact => Method::Exact,
+        MethodArg::Fastsim => Method::Fastsim,
+    };
+    let cmp = compare_snapshot(&snapshot, curvatures, material, method, args.grid)?;
+    std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
+    write_comparison_charts(&snapshot, &cmp, &args.out)?;
+    let summary = json!({
+        "time_s": snapshot.time_s,
+        "xi": cmp.kalker.creepages.xi,
+        "eta": cmp.kalker.creepages.eta,
+        "unique": cmp.kalker.unique,
+        "note": cmp.kalker.note,
+        "fe_orientation_deg": cmp.fe_orientation_deg,
+        "kalker_orientation_deg": cmp.kalker_orientation_deg,
+        "fe_adhesion_fraction": cmp.fe_adhesion_fraction,
+        "kalker_adhesion_fraction": cmp.kalker_adhesion_fraction,
+    });
+    let path = args.out.join("comparison.json");
+    std::fs::write(
+        &path,
+        serde_json::to_string_pretty(&summary).unwrap_or_default(),
+    )
+    .map_err(|e| Error::io(&path, e))?;
+    println!(
+        "{}",
+        serde_json::to_string_pretty(&summary).unwrap_or_default()
+    );
     Ok(())
 }
