@@ -14,7 +14,7 @@ use std::path::PathBuf;
 
 /// Arguments of `squeal kalker`.
 #[derive(Args, Debug)]
-#[command(args_conflicts_with_subcommands = true)]
+#[command(args_conflicts_with_subcommands = true, allow_negative_numbers = true)]
 pub struct KalkerArgs {
     #[command(subcommand)]
     command: Option<KalkerCommand>,
@@ -26,17 +26,22 @@ pub struct KalkerArgs {
 #[derive(Subcommand, Debug)]
 enum KalkerCommand {
     /// Hertz contact patch for a wheel on a crowned rail.
+    #[command(allow_negative_numbers = true)]
     Hertz(HertzArgs),
     /// Force-prescribed: find creepages xi, eta for given Fx, Fy (as CONTACT does).
+    #[command(allow_negative_numbers = true)]
     Solve(SolveArgs),
     /// Creepage-prescribed: creep forces and traction for given xi, eta, phi.
+    #[command(allow_negative_numbers = true)]
     Creep(CreepArgs),
     /// Compare an FE contact-patch snapshot (JSON) with Kalker: creepages from the FE forces,
     /// Kalker's adhesion/slip map beside the FE map, orientation angles.
+    #[command(allow_negative_numbers = true)]
     Compare(CompareArgs),
 }
 
 #[derive(Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
 struct CompareArgs {
     /// Snapshot JSON: {time_s, normal_force_n, force_x_n, force_y_n, mu,
     /// points: [{x_m, y_m, pressure_pa, slip}]}.
@@ -44,13 +49,13 @@ struct CompareArgs {
     snapshot: PathBuf,
     /// Wheel tape-circle lateral position for S1002-on-54E1 curvatures (default: flat tread
     /// of --wheel-radius on a crown of --rail-radius).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     wheel_y: Option<f64>,
     /// Wheel radius (m).
-    #[arg(long, default_value_t = 0.46)]
+    #[arg(long, default_value_t = 0.46, allow_hyphen_values = true)]
     wheel_radius: f64,
     /// Rail crown radius (m).
-    #[arg(long, default_value_t = 0.3)]
+    #[arg(long, default_value_t = 0.3, allow_hyphen_values = true)]
     rail_radius: f64,
     /// Theory.
     #[arg(long, value_enum, default_value_t = MethodArg::Exact)]
@@ -67,29 +72,30 @@ struct CompareArgs {
 #[derive(Args, Debug, Clone)]
 struct ContactArgs {
     /// Normal force Fn (N).
-    #[arg(long = "fn", value_name = "N")]
+    #[arg(long = "fn", value_name = "N", allow_hyphen_values = true)]
     normal_force_n: Option<f64>,
     /// Wheel rolling radius (m); flat tread assumed.
-    #[arg(long, default_value_t = 0.46)]
+    #[arg(long, default_value_t = 0.46, allow_hyphen_values = true)]
     wheel_radius: f64,
     /// Rail crown radius (m).
-    #[arg(long, default_value_t = 0.3)]
+    #[arg(long, default_value_t = 0.3, allow_hyphen_values = true)]
     rail_radius: f64,
     /// Lateral position (m) of the wheel's tape circle relative to the rail centre (crown top of
     /// the upright 54E1): the S1002 on 54E1 (1:40) contact point and its curvatures are used
     /// instead of --wheel-radius/--rail-radius (-0.0025 is a centred wheelset: tape circles
     /// 1500 mm apart on 1435 mm gauge).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     wheel_y: Option<f64>,
     /// Young's modulus (Pa).
-    #[arg(long, default_value_t = 210e9)]
+    #[arg(long, default_value_t = 210e9, allow_hyphen_values = true)]
     e: f64,
     /// Poisson's ratio.
-    #[arg(long, default_value_t = 0.3)]
+    #[arg(long, default_value_t = 0.3, allow_hyphen_values = true)]
     nu: f64,
 }
 
 #[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
 struct HertzArgs {
     #[command(flatten)]
     contact: ContactArgs,
@@ -107,10 +113,10 @@ enum MethodArg {
 #[derive(Args, Debug, Clone)]
 struct SolutionArgs {
     /// Friction coefficient.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     mu: Option<f64>,
     /// Spin creepage phi (1/m).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     phi: f64,
     /// Theory: exact half-space (CONTACT-like) or FASTSIM.
     #[arg(long, value_enum, default_value_t = MethodArg::Exact)]
@@ -124,30 +130,32 @@ struct SolutionArgs {
 }
 
 #[derive(Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
 struct SolveArgs {
     #[command(flatten)]
     contact: ContactArgs,
     #[command(flatten)]
     solution: SolutionArgs,
     /// Longitudinal creep force Fx on the wheel (N).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     fx: Option<f64>,
     /// Lateral creep force Fy on the wheel (N).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     fy: Option<f64>,
 }
 
 #[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
 struct CreepArgs {
     #[command(flatten)]
     contact: ContactArgs,
     #[command(flatten)]
     solution: SolutionArgs,
     /// Longitudinal creepage xi (-).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     xi: f64,
     /// Lateral creepage eta (-).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     eta: f64,
 }
 
