@@ -175,12 +175,7 @@ where
 {
     root.fill(&WHITE).map_err(|e| e.to_string())?;
     let ((x0, x1), (y0, y1)) = data_range(chart);
-    let mut builder = ChartBuilder::on(&root);
-    builder
-        .caption(&chart.title, ("sans-serif", 26))
-        .margin(14)
-        .x_label_area_size(52)
-        .y_label_area_size(86);
+    let mut builder = framed(&root, &chart.title, 26);
     macro_rules! body {
         ($ctx:expr) => {{
             let mut ctx = $ctx;
@@ -270,6 +265,38 @@ where
     root.present().map_err(|e| e.to_string())
 }
 
+/// A chart builder with the toolkit's frame: title, margins, room for axis labels.
+fn framed<'a, 'b, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    title: &str,
+    title_px: u32,
+) -> ChartBuilder<'a, 'b, DB> {
+    let mut builder = ChartBuilder::on(root);
+    builder
+        .caption(title, ("sans-serif", title_px))
+        .margin(14)
+        .x_label_area_size(52)
+        .y_label_area_size(86);
+    builder
+}
+
+/// Create the parent folders of the given output files.
+fn create_parents(paths: &[Option<&Path>]) -> Result<()> {
+    for path in paths.iter().flatten() {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        }
+    }
+    Ok(())
+}
+
+fn drawing_error(path: &Path, message: String) -> Error {
+    Error::Io {
+        path: path.display().to_string(),
+        source: std::io::Error::other(message),
+    }
+}
+
 /// Axis tick text: plain numbers with at most 4 significant digits, powers of ten as 1e-6.
 pub fn tick_label(v: &f64) -> String {
     let a = v.abs();
@@ -294,24 +321,14 @@ pub fn tick_label(v: &f64) -> String {
 pub fn write(chart: &LineChart, png: Option<&Path>, svg: Option<&Path>) -> Result<()> {
     register_font();
     let size = chart.size_px.unwrap_or((1000, 620));
-    for path in [png, svg].into_iter().flatten() {
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        }
-    }
+    create_parents(&[png, svg])?;
     if let Some(path) = png {
         let root = BitMapBackend::new(path, size).into_drawing_area();
-        draw(root, chart).map_err(|e| Error::Io {
-            path: path.display().to_string(),
-            source: std::io::Error::other(e),
-        })?;
+        draw(root, chart).map_err(|e| drawing_error(path, e))?;
     }
     if let Some(path) = svg {
         let root = SVGBackend::new(path, size).into_drawing_area();
-        draw(root, chart).map_err(|e| Error::Io {
-            path: path.display().to_string(),
-            source: std::io::Error::other(e),
-        })?;
+        draw(root, chart).map_err(|e| drawing_error(path, e))?;
     }
     Ok(())
 }
@@ -396,12 +413,7 @@ where
         .fold(0.0f64, f64::max)
         .max(1e-300);
     let range = map.range_db.max(1.0);
-    let mut builder = ChartBuilder::on(&root);
-    builder
-        .caption(&map.title, ("sans-serif", 24))
-        .margin(14)
-        .x_label_area_size(52)
-        .y_label_area_size(86);
+    let mut builder = framed(&root, &map.title, 24);
     macro_rules! body {
         ($ctx:expr) => {{
             let mut ctx = $ctx;
@@ -462,11 +474,7 @@ where
 pub fn write_heatmap(map: &Heatmap, png: Option<&Path>, svg: Option<&Path>) -> Result<()> {
     register_font();
     let size = map.size_px.unwrap_or((900, 560));
-    for path in [png, svg].into_iter().flatten() {
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        }
-    }
+    create_parents(&[png, svg])?;
     if let Some(path) = png {
         draw_heatmap(BitMapBackend::new(path, size).into_drawing_area(), map).map_err(|e| {
             Error::Io {
