@@ -7,6 +7,7 @@
 pub mod analysis;
 pub mod error;
 pub mod geometry;
+pub mod hammer;
 pub mod identify;
 pub mod input;
 pub mod kalker;

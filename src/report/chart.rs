@@ -33,6 +33,8 @@ pub enum Stroke {
     Points,
     /// Solid line with markers.
     SolidWithPoints,
+    /// Dotted line with hollow markers (a single point stays visible).
+    DottedWithPoints,
 }
 
 /// One data series.
@@ -216,7 +218,7 @@ where
                             });
                         }
                     }
-                    Stroke::Dotted => {
+                    Stroke::Dotted | Stroke::DottedWithPoints => {
                         let drawn = ctx
                             .draw_series(DashedLineSeries::new(pts.clone(), 5, 5, style))
                             .map_err(|e| e.to_string())?;
@@ -236,6 +238,14 @@ where
                                 .legend(move |(x, y)| Circle::new((x + 12, y), 4, legend_style));
                         }
                     }
+                }
+                if s.stroke == Stroke::DottedWithPoints {
+                    let hollow = ShapeStyle {
+                        filled: false,
+                        ..style
+                    };
+                    ctx.draw_series(pts.iter().map(|&p| Circle::new(p, 5, hollow)))
+                        .map_err(|e| e.to_string())?;
                 }
                 if s.stroke == Stroke::SolidWithPoints {
                     ctx.draw_series(pts.iter().map(|&p| Circle::new(p, 3, style)))

@@ -17,7 +17,7 @@ use serde::Serialize;
 
 use super::chart::{write, write_heatmap, Heatmap, LineChart, Series, Stroke};
 use crate::analysis::{analyse_run, AnalysisOptions, RunAnalysis};
-use crate::identify::{to_markdown, ModeFamily, ModeRef};
+use crate::identify::{to_markdown, ModeRef};
 use crate::signal::{morlet_cwt, wav::write_wav, Scales};
 use crate::{Error, Result};
 
@@ -398,50 +398,29 @@ pub fn build_report(run_dirs: &[PathBuf], out_dir: &Path, title: &str) -> Result
         }
     }
 
-    // ---- Modal chart (FE modes: frequency against nodal diameters per family).
-    if let Some(modes) = runs.iter().find_map(|r| r.modes.as_ref()) {
+    // ---- Modal chart (frequency against nodal diameters per family; measured from an
+    // optional RUN_DIR/hammer.csv).
+    if let Some((dir, modes)) = runs
+        .iter()
+        .find_map(|r| r.modes.as_ref().map(|m| (&r.dir, m)))
+    {
         heading(&mut md, "Wheel modes");
-        let mut series = Vec::new();
-        for (k, fam) in [
-            ModeFamily::Axial,
-            ModeFamily::Radial,
-            ModeFamily::Circumferential,
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            for m in 0..=2u32 {
-                let mut pts: Vec<(f64, f64)> = modes
-                    .iter()
-                    .filter(|md| md.family == fam && md.nodal_circles == m)
-                    .map(|md| (md.nodal_diameters as f64, md.frequency_hz))
-                    .collect();
-                if pts.is_empty() {
-                    continue;
-                }
-                pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-                pts.dedup_by(|a, b| a.0 == b.0);
-                series.push(Series {
-                    label: format!("{fam:?}, {m} nodal circle(s), FE"),
-                    x: pts.iter().map(|p| p.0).collect(),
-                    y: pts.iter().map(|p| p.1).collect(),
-                    stroke: Stroke::Dotted,
-                    color: 3 * k + m as usize,
-                });
-            }
-        }
-        write(
-            &LineChart {
-                title: "Wheel modes: frequency against nodal diameters (FE dotted)".into(),
-                x_label: "nodal diameters".into(),
-                y_label: "frequency (Hz)".into(),
-                series,
-                ..Default::default()
-            },
+        let hammer_path = dir.join("hammer.csv");
+        let measured = if hammer_path.exists() {
+            Some(crate::hammer::read_hammer_csv(&hammer_path)?)
+        } else {
+            None
+        };
+        crate::hammer::write_modal_chart(
+            modes,
+            measured.as_deref(),
             Some(&out_dir.join("modes.png")),
             Some(&out_dir.join("modes.svg")),
         )?;
         let _ = writeln!(md, "![modes](modes.png)\n");
+        if let Some(meas) = &measured {
+            let _ = writeln!(md, "{}", crate::hammer::compare(meas, modes).to_markdown());
+        }
         files.push("modes.png".into());
     }
 
