@@ -6,6 +6,7 @@
 
 pub mod analysis;
 pub mod error;
+pub mod explicit;
 pub mod geometry;
 pub mod hammer;
 pub mod identify;

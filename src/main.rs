@@ -30,6 +30,8 @@ enum Command {
     Wav(cli::signal::WavArgs),
     /// Kalker's rolling contact theory: Hertz, creep forces, force-prescribed creepages.
     Kalker(cli::kalker::KalkerArgs),
+    /// Benchmarks that print the README's performance figures.
+    Bench(cli::bench::BenchArgs),
 }
 
 fn main() {
@@ -49,6 +51,7 @@ fn main() {
         Some(Command::Cwt(args)) => cli::signal::run_cwt(args),
         Some(Command::Wav(args)) => cli::signal::run_wav(args),
         Some(Command::Kalker(args)) => cli::kalker::run(args),
+        Some(Command::Bench(args)) => cli::bench::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");

@@ -268,3 +268,50 @@ impl Mesh {
         QualityReport::of(self, wave_speed_m_per_s)
     }
 }
+
+/// A structured box `[0, lx] x [0, ly] x [0, lz]` (m) of `n[0] x n[1] x n[2]` hexahedra, material
+/// `material_id`, with node sets `x0`, `x1`, `y0`, `y1`, `z0`, `z1` on its faces and `all`. Used by
+/// tests (bars, plates, blocks with analytic answers) and the explicit benchmark.
+pub fn cuboid(n: [usize; 3], size_m: [f64; 3], material_id: u32) -> Mesh {
+    let [nx, ny, nz] = n;
+    let id = |i: usize, j: usize, l: usize| i + (nx + 1) * (j + (ny + 1) * l);
+    let mut mesh = Mesh::default();
+    for l in 0..=nz {
+        for j in 0..=ny {
+            for i in 0..=nx {
+                mesh.nodes.push([
+                    size_m[0] * i as f64 / nx as f64,
+                    size_m[1] * j as f64 / ny as f64,
+                    size_m[2] * l as f64 / nz as f64,
+                ]);
+            }
+        }
+    }
+    for l in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                mesh.elements.push(hex::structured(i, j, l, id));
+                mesh.material.push(material_id);
+            }
+        }
+    }
+    let count = mesh.nodes.len();
+    let on = |axis: usize, value: usize| -> Vec<usize> {
+        (0..count)
+            .filter(|&k| {
+                let ijk = [
+                    k % (nx + 1),
+                    (k / (nx + 1)) % (ny + 1),
+                    k / ((nx + 1) * (ny + 1)),
+                ];
+                ijk[axis] == value
+            })
+            .collect()
+    };
+    for (axis, name, last) in [(0, "x", nx), (1, "y", ny), (2, "z", nz)] {
+        mesh.add_node_set(&format!("{name}0"), on(axis, 0));
+        mesh.add_node_set(&format!("{name}1"), on(axis, last));
+    }
+    mesh.add_node_set("all", 0..count);
+    mesh
+}

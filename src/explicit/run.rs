@@ -1,0 +1,568 @@
+//! A run of the explicit engine with output: time histories streamed to CSV at a fixed sample
+//! rate (never held in memory), an energy CSV, VTU snapshots at chosen times, a progress bar,
+//! checkpoints every N steps and resume from the last one.
+//!
+//! The time step is set to `sample_interval / ceil(sample_interval / dt_stable)` so that the
+//! samples fall exactly on steps and the histories are uniformly sampled (what the PSD needs).
+//!
+//! Failure keeps the work: on an instability (non-finite value, inverted element, energy
+//! balance beyond the threshold) the run writes `status.json` with the diagnosis, flushes every
+//! file written so far, and returns the error.
+
+// Index loops mirror the tensor notation of the equations (the project's style for kernels);
+// `!(x > 0.0)` is meant: it also rejects NaN.
+#![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
+
+use std::fs::File;
+use std::io::{BufRead, BufReader, BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::solver::{AuxForces, EnergyReport, RigidState, Solver, WorkTotals};
+use crate::mesh::vtu::{self, PointVectorField};
+use crate::mesh::P3;
+use crate::{Error, Result};
+
+/// Sampled quantity.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Quantity {
+    /// Displacement (m).
+    Displacement,
+    /// Velocity (m/s).
+    Velocity,
+    /// Acceleration (m/s^2).
+    Acceleration,
+}
+
+/// One history column: a node or the average over a node set, one quantity, one direction.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HistoryProbe {
+    /// CSV column name (e.g. `lateral_rim_velocity_m_per_s`).
+    pub column: String,
+    /// Nodes averaged.
+    pub nodes: Vec<usize>,
+    /// Quantity.
+    pub quantity: Quantity,
+    /// Direction 0 = x, 1 = y, 2 = z.
+    pub direction: usize,
+}
+
+/// Options of a run.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// End time (s).
+    pub end_time_s: f64,
+    /// History sample interval (s).
+    pub sample_interval_s: f64,
+    /// Energy report every this many samples.
+    pub energy_every_samples: u64,
+    /// History columns.
+    pub probes: Vec<HistoryProbe>,
+    /// Times of VTU snapshots (s).
+    pub snapshot_times_s: Vec<f64>,
+    /// Checkpoint every this many steps (0 = never).
+    pub checkpoint_every_steps: u64,
+    /// Output directory.
+    pub out_dir: PathBuf,
+    /// Resume from `out_dir/checkpoint.bin`.
+    pub resume: bool,
+    /// Show a progress bar.
+    pub progress: bool,
+    /// Stop when the energy balance error exceeds this fraction of the energy.
+    pub balance_threshold: f64,
+}
+
+impl RunOptions {
+    /// Defaults: 10 kHz-ish sampling is the caller's choice; energy every 10 samples,
+    /// checkpoint every 20 000 steps, 5 % balance threshold.
+    pub fn new(out_dir: &Path, end_time_s: f64, sample_interval_s: f64) -> RunOptions {
+        RunOptions {
+            end_time_s,
+            sample_interval_s,
+            energy_every_samples: 10,
+            probes: Vec::new(),
+            snapshot_times_s: Vec::new(),
+            checkpoint_every_steps: 20_000,
+            out_dir: out_dir.to_path_buf(),
+            resume: false,
+            progress: false,
+            balance_threshold: 0.05,
+        }
+    }
+}
+
+/// What a run returns.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RunSummary {
+    /// "completed" or "unstable".
+    pub status: String,
+    /// Diagnosis when unstable.
+    pub diagnosis: Option<String>,
+    /// Steps taken (in total, across resumes).
+    pub steps: u64,
+    /// Simulated time reached (s).
+    pub time_s: f64,
+    /// Time step (s).
+    pub time_step_s: f64,
+    /// What limits the stable step.
+    pub time_step_limited_by: String,
+    /// Wall-clock time of this invocation (s).
+    pub wall_s: f64,
+    /// Steps per second of this invocation.
+    pub steps_per_second: f64,
+    /// Largest energy balance ratio seen.
+    pub max_balance_ratio: f64,
+    /// Last energy report.
+    pub last_energy: Option<EnergyReport>,
+    /// Whether the run resumed from a checkpoint, and from which time.
+    pub resumed_from_s: Option<f64>,
+}
+
+fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |e| Error::io(path, e)
+}
+
+/// Sets the solver's step so that samples fall on steps; returns steps per sample.
+pub fn align_time_step(solver: &mut Solver, sample_interval_s: f64) -> Result<u64> {
+    if !(sample_interval_s > 0.0 && sample_interval_s.is_finite()) {
+        return Err(Error::input(
+            "run",
+            "sample_interval_s",
+            format!("must be > 0 (got {sample_interval_s})"),
+        ));
+    }
+    let per_sample = (sample_interval_s / solver.dt_s).ceil().max(1.0) as u64;
+    solver.dt_s = sample_interval_s / per_sample as f64;
+    Ok(per_sample)
+}
+
+/// Runs from the solver's current state to `opts.end_time_s`.
+pub fn run<A: AuxForces + ?Sized>(
+    solver: &mut Solver,
+    aux: &mut A,
+    opts: &RunOptions,
+) -> Result<RunSummary> {
+    for p in &opts.probes {
+        if p.nodes.is_empty() || p.direction > 2 || p.nodes.iter().any(|&n| n >= solver.u.len()) {
+            return Err(Error::input(
+                "run",
+                &p.column,
+                "history probe needs nodes of the model and a direction 0..2",
+            ));
+        }
+    }
+    if !(opts.end_time_s > 0.0 && opts.end_time_s.is_finite()) {
+        return Err(Error::input(
+            "run",
+            "end_time_s",
+            format!("must be > 0 (got {})", opts.end_time_s),
+        ));
+    }
+    std::fs::create_dir_all(&opts.out_dir).map_err(io(&opts.out_dir))?;
+    let (_, limited_by) = solver.stable_time_step_s()?;
+    let per_sample = align_time_step(solver, opts.sample_interval_s)?;
+    let hist_path = opts.out_dir.join("histories.csv");
+    let energy_path = opts.out_dir.join("energy.csv");
+    let ckpt_path = opts.out_dir.join("checkpoint.bin");
+    let mut resumed_from = None;
+    if opts.resume {
+        let aux_state = read_checkpoint(solver, &ckpt_path)?;
+        aux.restore_state(&aux_state)?;
+        resumed_from = Some(solver.time_s);
+        truncate_csv_after(&hist_path, solver.time_s)?;
+        truncate_csv_after(&energy_path, solver.time_s)?;
+    }
+    let append = opts.resume;
+    let open = |p: &Path| -> Result<BufWriter<File>> {
+        let f = std::fs::OpenOptions::new()
+            .create(true)
+            .write(true)
+            .append(append)
+            .truncate(!append)
+            .open(p)
+            .map_err(io(p))?;
+        Ok(BufWriter::new(f))
+    };
+    let mut hist = open(&hist_path)?;
+    let mut energy_csv = open(&energy_path)?;
+    if !append {
+        let mut header = String::from("time_s");
+        for p in &opts.probes {
+            header.push(',');
+            header.push_str(&p.column);
+        }
+        writeln!(hist, "{header}").map_err(io(&hist_path))?;
+        writeln!(
+            energy_csv,
+            "time_s,kinetic_j,strain_j,hourglass_j,spring_j,damping_j,contact_j,external_work_j,balance_error_j,balance_ratio,min_det_f"
+        )
+        .map_err(io(&energy_path))?;
+    }
+    let total_steps = ((opts.end_time_s - solver.time_s) / solver.dt_s)
+        .round()
+        .max(0.0) as u64;
+    let start_step = solver.step;
+    let bar = if opts.progress {
+        let b = indicatif::ProgressBar::new(total_steps);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:30} {pos}/{len} steps  {msg}  elapsed {elapsed_precise}  eta {eta_precise}",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let wall = Instant::now();
+    let mut snapshots: Vec<f64> = opts
+        .snapshot_times_s
+        .iter()
+        .copied()
+        .filter(|&t| t >= solver.time_s)
+        .collect();
+    snapshots.sort_by(f64::total_cmp);
+    let mut next_snapshot = 0;
+    let mut max_ratio: f64 = 0.0;
+    let mut row = String::with_capacity(32 * (opts.probes.len() + 1));
+    let mut failure: Option<Error> = None;
+    for k in 0..total_steps {
+        let n = solver.step;
+        let sample = n.is_multiple_of(per_sample);
+        let energy = sample && (n / per_sample).is_multiple_of(opts.energy_every_samples.max(1));
+        solver.step_with(aux, sample, energy)?;
+        let t_n = solver.time_s - solver.dt_s;
+        if sample {
+            row.clear();
+            push_num(&mut row, t_n);
+            for p in &opts.probes {
+                let mut acc = 0.0;
+                for &nd in &p.nodes {
+                    acc += match p.quantity {
+                        Quantity::Displacement => solver.output.displacement[nd][p.direction],
+                        Quantity::Velocity => solver.output.velocity[nd][p.direction],
+                        Quantity::Acceleration => solver.output.acceleration[nd][p.direction],
+                    };
+                }
+                row.push(',');
+                push_num(&mut row, acc / p.nodes.len() as f64);
+            }
+            row.push('\n');
+            hist.write_all(row.as_bytes()).map_err(io(&hist_path))?;
+            aux.on_sample(t_n, &opts.out_dir)?;
+        }
+        if energy {
+            if let Some(e) = solver.last_energy() {
+                max_ratio = max_ratio.max(e.balance_ratio);
+                writeln!(
+                    energy_csv,
+                    "{},{},{},{},{},{},{},{},{},{},{}",
+                    e.time_s,
+                    e.kinetic_j,
+                    e.strain_j,
+                    e.hourglass_j,
+                    e.spring_j,
+                    e.damping_j,
+                    e.contact_j,
+                    e.external_work_j,
+                    e.balance_error_j,
+                    e.balance_ratio,
+                    e.min_det_f
+                )
+                .map_err(io(&energy_path))?;
+                if let Err(err) = solver.check_state(&e, opts.balance_threshold) {
+                    failure = Some(err);
+                    break;
+                }
+            }
+            bar.set_message(format!(
+                "t = {:.3} ms, {:.0} steps/s",
+                solver.time_s * 1e3,
+                (solver.step - start_step) as f64 / wall.elapsed().as_secs_f64().max(1e-9)
+            ));
+        }
+        while next_snapshot < snapshots.len()
+            && snapshots[next_snapshot] <= solver.time_s + 0.5 * solver.dt_s
+        {
+            write_snapshot(solver, &opts.out_dir, snapshots[next_snapshot])?;
+            next_snapshot += 1;
+        }
+        if opts.checkpoint_every_steps > 0 && (k + 1) % opts.checkpoint_every_steps == 0 {
+            hist.flush().map_err(io(&hist_path))?;
+            energy_csv.flush().map_err(io(&energy_path))?;
+            write_checkpoint(solver, &aux.checkpoint_state(), &ckpt_path)?;
+        }
+        if k % 64 == 0 {
+            bar.set_position(k);
+        }
+    }
+    bar.finish_and_clear();
+    hist.flush().map_err(io(&hist_path))?;
+    energy_csv.flush().map_err(io(&energy_path))?;
+    if failure.is_none() && opts.checkpoint_every_steps > 0 {
+        write_checkpoint(solver, &aux.checkpoint_state(), &ckpt_path)?;
+    }
+    let wall_s = wall.elapsed().as_secs_f64();
+    let summary = RunSummary {
+        status: if failure.is_some() {
+            "unstable"
+        } else {
+            "completed"
+        }
+        .to_string(),
+        diagnosis: failure.as_ref().map(|e| e.to_string()),
+        steps: solver.step,
+        time_s: solver.time_s,
+        time_step_s: solver.dt_s,
+        time_step_limited_by: limited_by,
+        wall_s,
+        steps_per_second: (solver.step - start_step) as f64 / wall_s.max(1e-9),
+        max_balance_ratio: max_ratio,
+        last_energy: solver.last_energy(),
+        resumed_from_s: resumed_from,
+    };
+    let status_path = opts.out_dir.join("status.json");
+    let text =
+        serde_json::to_string_pretty(&summary).map_err(|e| Error::Numerical(e.to_string()))?;
+    std::fs::write(&status_path, text).map_err(io(&status_path))?;
+    match failure {
+        Some(e) => Err(e),
+        None => Ok(summary),
+    }
+}
+
+fn push_num(s: &mut String, x: f64) {
+    use std::fmt::Write as _;
+    let _ = write!(s, "{x:.9e}");
+}
+
+/// Writes `snapshot_<time in us>.vtu` with the displacement and velocity fields.
+pub fn write_snapshot(solver: &Solver, dir: &Path, time_s: f64) -> Result<PathBuf> {
+    let path = dir.join(format!("snapshot_{:09.1}us.vtu", time_s * 1e6));
+    let n = solver.model.mesh.nodes.len();
+    vtu::write(
+        &solver.model.mesh,
+        &path,
+        &[
+            PointVectorField {
+                name: "displacement_m".into(),
+                values: &solver.u[..n],
+            },
+            PointVectorField {
+                name: "velocity_m_per_s".into(),
+                values: &solver.v[..n],
+            },
+        ],
+    )?;
+    Ok(path)
+}
+
+/// Drops the rows of a CSV whose first column exceeds `time_s` (for resume).
+fn truncate_csv_after(path: &Path, time_s: f64) -> Result<()> {
+    let Ok(f) = File::open(path) else {
+        return Ok(());
+    };
+    let mut kept = String::new();
+    for (k, line) in BufReader::new(f).lines().enumerate() {
+        let line = line.map_err(io(path))?;
+        let keep = k == 0
+            || line
+                .split(',')
+                .next()
+                .and_then(|t| t.parse::<f64>().ok())
+                .is_some_and(|t| t < time_s - 1e-15);
+        if keep {
+            kept.push_str(&line);
+            kept.push('\n');
+        }
+    }
+    std::fs::write(path, kept).map_err(io(path))
+}
+
+const MAGIC: &[u8; 8] = b"SQLCKPT1";
+
+/// Fingerprint of a model: FNV-1a over node and element counts, reference coordinates and
+/// masses. A checkpoint of another model is refused.
+pub fn model_fingerprint(solver: &Solver) -> u64 {
+    let mut h: u64 = 0xcbf29ce484222325;
+    let mut eat = |x: u64| {
+        for b in x.to_le_bytes() {
+            h ^= b as u64;
+            h = h.wrapping_mul(0x100000001b3);
+        }
+    };
+    eat(solver.u.len() as u64);
+    eat(solver.model.elements.len() as u64);
+    for p in &solver.model.mesh.nodes {
+        for c in p {
+            eat(c.to_bits());
+        }
+    }
+    for m in &solver.model.nodal_mass_kg {
+        eat(m.to_bits());
+    }
+    h
+}
+
+fn put(buf: &mut Vec<u8>, x: f64) {
+    buf.extend_from_slice(&x.to_le_bytes());
+}
+
+/// Writes the state (atomically: temporary file, then rename).
+pub fn write_checkpoint(solver: &Solver, aux_state: &[f64], path: &Path) -> Result<()> {
+    let mut buf = Vec::with_capacity(16 * 3 * solver.u.len() * 2 + 1024);
+    buf.extend_from_slice(MAGIC);
+    buf.extend_from_slice(&model_fingerprint(solver).to_le_bytes());
+    buf.extend_from_slice(&(solver.u.len() as u64).to_le_bytes());
+    buf.extend_from_slice(&(solver.rigid.len() as u64).to_le_bytes());
+    buf.extend_from_slice(&(aux_state.len() as u64).to_le_bytes());
+    buf.extend_from_slice(&solver.step.to_le_bytes());
+    put(&mut buf, solver.time_s);
+    put(&mut buf, solver.dt_s);
+    for arr in [&solver.u, &solver.v] {
+        for p in arr.iter() {
+            for c in p {
+                put(&mut buf, *c);
+            }
+        }
+    }
+    let w = &solver.work;
+    for x in [
+        w.internal_j,
+        w.aux_j,
+        w.gravity_j,
+        w.mass_damping_j,
+        w.reaction_j,
+        w.spring_j,
+        w.spring_damping_j,
+        w.load_j,
+        w.torque_j,
+        w.initial_j,
+    ] {
+        put(&mut buf, x);
+    }
+    for r in &solver.rigid {
+        put(&mut buf, r.mass_kg);
+        for v in [
+            r.centre0_m,
+            r.centre_m,
+            r.velocity_m_per_s,
+            r.angular_momentum,
+        ] {
+            for c in v {
+                put(&mut buf, c);
+            }
+        }
+        for m in [r.rotation, r.inertia0, r.inertia0_inv] {
+            for row in m {
+                for c in row {
+                    put(&mut buf, c);
+                }
+            }
+        }
+    }
+    for x in aux_state {
+        put(&mut buf, *x);
+    }
+    let tmp = path.with_extension("bin.tmp");
+    std::fs::write(&tmp, &buf).map_err(io(&tmp))?;
+    std::fs::rename(&tmp, path).map_err(io(path))
+}
+
+/// Reads a checkpoint into the solver; returns the auxiliary state.
+pub fn read_checkpoint(solver: &mut Solver, path: &Path) -> Result<Vec<f64>> {
+    let mut bytes = Vec::new();
+    File::open(path)
+        .map_err(io(path))?
+        .read_to_end(&mut bytes)
+        .map_err(io(path))?;
+    let bad = |msg: &str| Error::input(path.display().to_string(), "checkpoint", msg.to_string());
+    if bytes.len() < 64 || &bytes[..8] != MAGIC {
+        return Err(bad("not a squeal checkpoint (bad header)"));
+    }
+    let mut pos = 8;
+    let mut word = |bytes: &[u8]| -> Result<[u8; 8]> {
+        let w: [u8; 8] = bytes
+            .get(pos..pos + 8)
+            .and_then(|s| s.try_into().ok())
+            .ok_or_else(|| bad("file is truncated"))?;
+        pos += 8;
+        Ok(w)
+    };
+    let fingerprint = u64::from_le_bytes(word(&bytes)?);
+    if fingerprint != model_fingerprint(solver) {
+        return Err(bad(
+            "checkpoint was written for another model (mesh, masses or node count differ)",
+        ));
+    }
+    let n = u64::from_le_bytes(word(&bytes)?) as usize;
+    let n_rigid = u64::from_le_bytes(word(&bytes)?) as usize;
+    let n_aux = u64::from_le_bytes(word(&bytes)?) as usize;
+    if n != solver.u.len() || n_rigid != solver.rigid.len() {
+        return Err(bad(
+            "checkpoint node or rigid-body count differs from the model",
+        ));
+    }
+    let step = u64::from_le_bytes(word(&bytes)?);
+    let mut f = |bytes: &[u8]| -> Result<f64> { Ok(f64::from_le_bytes(word(bytes)?)) };
+    let time_s = f(&bytes)?;
+    let dt_s = f(&bytes)?;
+    let mut read_vecs = |bytes: &[u8]| -> Result<Vec<P3>> {
+        let mut out = Vec::with_capacity(n);
+        for _ in 0..n {
+            out.push([f(bytes)?, f(bytes)?, f(bytes)?]);
+        }
+        Ok(out)
+    };
+    let u = read_vecs(&bytes)?;
+    let v = read_vecs(&bytes)?;
+    let mut f = |bytes: &[u8]| -> Result<f64> { Ok(f64::from_le_bytes(word(bytes)?)) };
+    let work = WorkTotals {
+        internal_j: f(&bytes)?,
+        aux_j: f(&bytes)?,
+        gravity_j: f(&bytes)?,
+        mass_damping_j: f(&bytes)?,
+        reaction_j: f(&bytes)?,
+        spring_j: f(&bytes)?,
+        spring_damping_j: f(&bytes)?,
+        load_j: f(&bytes)?,
+        torque_j: f(&bytes)?,
+        initial_j: f(&bytes)?,
+    };
+    let mut rigid = Vec::with_capacity(n_rigid);
+    for _ in 0..n_rigid {
+        let mass_kg = f(&bytes)?;
+        let mut v3 = || -> Result<P3> { Ok([f(&bytes)?, f(&bytes)?, f(&bytes)?]) };
+        let (centre0_m, centre_m, velocity_m_per_s, angular_momentum) =
+            (v3()?, v3()?, v3()?, v3()?);
+        let mut m3 = || -> Result<[[f64; 3]; 3]> {
+            let mut m = [[0.0; 3]; 3];
+            for row in m.iter_mut() {
+                for c in row.iter_mut() {
+                    *c = f(&bytes)?;
+                }
+            }
+            Ok(m)
+        };
+        let (rotation, inertia0, inertia0_inv) = (m3()?, m3()?, m3()?);
+        rigid.push(RigidState {
+            mass_kg,
+            centre0_m,
+            centre_m,
+            velocity_m_per_s,
+            rotation,
+            angular_momentum,
+            inertia0,
+            inertia0_inv,
+        });
+    }
+    let mut aux = Vec::with_capacity(n_aux);
+    for _ in 0..n_aux {
+        aux.push(f(&bytes)?);
+    }
+    solver.restore(time_s, step, dt_s, u, v, work, rigid);
+    Ok(aux)
+}

@@ -1,0 +1,1271 @@
+//! Central-difference time integration (PAPER.md, "Numerical method"):
+//!
+//! ```text
+//! a(t_n)       = M^-1 (f_ext(t_n) - f_int(u_n, v_{n-1/2}) + f_aux(t_n))
+//! v_{n+1/2}    = v_{n-1/2} + dt a(t_n)
+//! u_{n+1}      = u_n + dt v_{n+1/2}
+//! ```
+//! with a lumped (diagonal) mass. Constraints act on the updated velocities: fixed directions
+//! get zero, prescribed directions the curve's velocity, rigid bodies the rigid motion, tie
+//! slaves the interpolation of their master face.
+//!
+//! Parallelism without races or thread-dependent sums: elements are grouped into blocks of
+//! consecutive elements, and the blocks are coloured so that no two blocks of one colour share
+//! a node. Colours run one after another; the blocks of a colour run in parallel and scatter
+//! into disjoint nodes. Every node's force is therefore summed in the same order whatever the
+//! thread count, and the results are bitwise identical for 1 and N threads. Node loops work on
+//! fixed chunks whose partial sums are added in chunk order.
+//!
+//! Energy bookkeeping (issue "explicit engine", item 7), at integer steps with the centred
+//! velocity `vbar_n = (v_{n-1/2} + v_{n+1/2}) / 2`: kinetic energy `sum m |vbar|^2 / 2`; strain and
+//! hourglass energies as potentials of `u_n`; spring energy `k d^2 / 2`; work increments
+//! `dt f_n . vbar_n` for external forces, constraint reactions and dissipation. The balance error
+//! is `kinetic + internal + springs + dissipated + absorbed by auxiliary forces - work`.
+
+// Index loops mirror the tensor notation of the equations (the project's style for kernels);
+// `!(x > 0.0)` is meant: it also rejects NaN.
+#![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
+
+use std::ops::Range;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::batch::{add_block_forces, ElementBatch, LANES};
+use super::element::{full_forces, one_point_forces, ElementEnergy, KernelOptions};
+use super::model::{Elements, Model, MotionKind};
+use crate::mesh::P3;
+use crate::{Error, Result};
+
+/// Elements per colouring block.
+const BLOCK_ELEMENTS: usize = 256;
+/// Nodes per chunk of the node loops (fixed, so sums do not depend on the thread count).
+const NODE_CHUNK: usize = 2048;
+
+/// Node role bits.
+const ROLE_SLAVE: u8 = 1 << 6;
+const ROLE_RIGID: u8 = 1 << 7;
+const PRESCRIBED_SHIFT: u8 = 3;
+
+/// Forces added by another module every step (contact).
+pub trait AuxForces {
+    /// Adds forces at time `time_s` for the state `u` (at t_n) and `v` (at t_{n-1/2}) into
+    /// `force` (N). Must not allocate.
+    fn add_forces(&mut self, time_s: f64, dt_s: f64, u: &[P3], v: &[P3], force: &mut [P3]);
+    /// Called after each history sample at `time_s` (the module writes its own histories).
+    fn on_sample(&mut self, _time_s: f64, _out_dir: &std::path::Path) -> Result<()> {
+        Ok(())
+    }
+    /// State to keep in checkpoints (e.g. tangential contact forces).
+    fn checkpoint_state(&self) -> Vec<f64> {
+        Vec::new()
+    }
+    /// Restores what [`AuxForces::checkpoint_state`] returned.
+    fn restore_state(&mut self, state: &[f64]) -> Result<()> {
+        if state.is_empty() {
+            Ok(())
+        } else {
+            Err(Error::input(
+                "checkpoint",
+                "aux_state",
+                "checkpoint holds contact state this run does not have",
+            ))
+        }
+    }
+}
+
+/// No auxiliary forces.
+pub struct NoAux;
+impl AuxForces for NoAux {
+    fn add_forces(&mut self, _: f64, _: f64, _: &[P3], _: &[P3], _: &mut [P3]) {}
+}
+
+/// Energies at one instant (J).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct EnergyReport {
+    /// Time (s).
+    pub time_s: f64,
+    /// Kinetic energy.
+    pub kinetic_j: f64,
+    /// Stored strain energy of the elements.
+    pub strain_j: f64,
+    /// Hourglass energy (stiffness form).
+    pub hourglass_j: f64,
+    /// Energy stored in the discrete springs.
+    pub spring_j: f64,
+    /// Energy dissipated by dampers (springs, Rayleigh, viscous hourglass).
+    pub damping_j: f64,
+    /// Energy absorbed by auxiliary (contact) forces: penalty energy + friction.
+    pub contact_j: f64,
+    /// Work of external loads (gravity, nodal loads, torque) and constraint reactions.
+    pub external_work_j: f64,
+    /// `kinetic + strain + hourglass + spring + damping + contact - external_work`.
+    pub balance_error_j: f64,
+    /// `|balance_error| / max(kinetic + strain + hourglass + spring, |external_work|)`.
+    pub balance_ratio: f64,
+    /// Smallest `det F` over the elements.
+    pub min_det_f: f64,
+    /// Element with the smallest `det F`.
+    pub min_det_f_element: usize,
+}
+
+/// Work accumulators (J), advanced every step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct WorkTotals {
+    /// Work of internal (element) forces, `sum dt f_int . vbar`.
+    pub internal_j: f64,
+    /// Work of the auxiliary force array (springs, loads, contact).
+    pub aux_j: f64,
+    /// Work of gravity.
+    pub gravity_j: f64,
+    /// Energy dissipated by mass-proportional damping.
+    pub mass_damping_j: f64,
+    /// Work of constraint reactions (prescribed motions).
+    pub reaction_j: f64,
+    /// Work of the springs' forces on the nodes.
+    pub spring_j: f64,
+    /// Energy dissipated by spring dampers.
+    pub spring_damping_j: f64,
+    /// Work of nodal loads.
+    pub load_j: f64,
+    /// Work of applied torques.
+    pub torque_j: f64,
+    /// Energy present when the bookkeeping started (initial kinetic energy, preload): the
+    /// balance error of the first report, so that later reports measure the change.
+    pub initial_j: f64,
+}
+
+impl WorkTotals {
+    fn add_scaled(&mut self, o: &WorkTotals, s: f64) {
+        self.internal_j += s * o.internal_j;
+        self.aux_j += s * o.aux_j;
+        self.gravity_j += s * o.gravity_j;
+        self.mass_damping_j += s * o.mass_damping_j;
+        self.reaction_j += s * o.reaction_j;
+        self.spring_j += s * o.spring_j;
+        self.spring_damping_j += s * o.spring_damping_j;
+        self.load_j += s * o.load_j;
+        self.torque_j += s * o.torque_j;
+        self.initial_j += s * o.initial_j;
+    }
+}
+
+/// State of a rigid body.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RigidState {
+    /// Body mass (kg).
+    pub mass_kg: f64,
+    /// Reference centre of mass.
+    pub centre0_m: P3,
+    /// Current centre of mass (t_n).
+    pub centre_m: P3,
+    /// Centre velocity (t_{n-1/2}).
+    pub velocity_m_per_s: P3,
+    /// Rotation from the reference (t_n).
+    pub rotation: [[f64; 3]; 3],
+    /// Angular momentum about the centre (t_{n-1/2}).
+    pub angular_momentum: P3,
+    /// Inertia tensor about the centre, reference orientation (kg m^2).
+    pub inertia0: [[f64; 3]; 3],
+    /// Its inverse.
+    pub inertia0_inv: [[f64; 3]; 3],
+}
+
+/// Sampled node quantities of an output step (filled only on output steps).
+#[derive(Clone, Debug, Default)]
+pub struct OutputFields {
+    /// Displacement at t_n.
+    pub displacement: Vec<P3>,
+    /// Centred velocity at t_n.
+    pub velocity: Vec<P3>,
+    /// Acceleration at t_n.
+    pub acceleration: Vec<P3>,
+}
+
+/// The central-difference solver.
+pub struct Solver {
+    /// The model.
+    pub model: Model,
+    /// Displacements at t_n.
+    pub u: Vec<P3>,
+    /// Velocities at t_{n-1/2}.
+    pub v: Vec<P3>,
+    /// Time t_n (s).
+    pub time_s: f64,
+    /// Step count n.
+    pub step: u64,
+    /// Time step (s).
+    pub dt_s: f64,
+    /// Work totals up to t_{n-1/2}.
+    pub work: WorkTotals,
+    /// Rigid bodies.
+    pub rigid: Vec<RigidState>,
+    /// Output fields of the last output step.
+    pub output: OutputFields,
+    f_int: Vec<P3>,
+    f_aux: Vec<P3>,
+    inv_mass: Vec<f64>,
+    eff_mass: Vec<f64>,
+    role: Vec<u8>,
+    prescribed_velocity: Vec<P3>,
+    colours: Vec<Vec<Range<usize>>>,
+    chunk_partials: Vec<(WorkTotals, f64)>,
+    discrete_nodes: Vec<usize>,
+    discrete_v_old: Vec<P3>,
+    spring_force: Vec<P3>,
+    kernel: KernelOptions,
+    batches: Vec<ElementBatch>,
+    avx2: bool,
+    last_energy: Option<EnergyReport>,
+    baseline_pending: bool,
+}
+
+/// Raw pointer that may be shared between threads; every use writes disjoint indices.
+#[derive(Clone, Copy)]
+struct SharedMut<T>(*mut T);
+unsafe impl<T> Send for SharedMut<T> {}
+unsafe impl<T> Sync for SharedMut<T> {}
+impl<T> SharedMut<T> {
+    /// The pointer (a method, so that closures capture the whole `Send + Sync` wrapper).
+    #[inline(always)]
+    fn ptr(self) -> *mut T {
+        self.0
+    }
+    /// # Safety
+    /// The caller guarantees that no two threads touch the same index.
+    #[inline(always)]
+    unsafe fn at(self, i: usize) -> *mut T {
+        self.0.add(i)
+    }
+}
+
+/// Greedy colouring of blocks of `block` consecutive items (elements or batches) whose nodes
+/// `nodes_of(item)` lists: blocks sharing a node get different colours.
+fn colour_blocks(
+    n: usize,
+    block: usize,
+    node_count: usize,
+    nodes_of: impl Fn(usize) -> Vec<u32>,
+) -> Result<Vec<Vec<Range<usize>>>> {
+    let mut node_colours: Vec<u64> = vec![0; node_count];
+    let mut colours: Vec<Vec<Range<usize>>> = Vec::new();
+    let mut start = 0;
+    while start < n {
+        let end = (start + block).min(n);
+        let mut used = 0u64;
+        for e in start..end {
+            for nd in nodes_of(e) {
+                used |= node_colours[nd as usize];
+            }
+        }
+        let c = (!used).trailing_zeros() as usize;
+        if c >= 64 {
+            return Err(Error::Mesh(
+                "element blocks need more than 64 colours: renumber the elements so that neighbours are close".into(),
+            ));
+        }
+        for e in start..end {
+            for nd in nodes_of(e) {
+                node_colours[nd as usize] |= 1 << c;
+            }
+        }
+        if colours.len() <= c {
+            colours.resize(c + 1, Vec::new());
+        }
+        colours[c].push(start..end);
+        start = end;
+    }
+    Ok(colours)
+}
+
+fn cross(a: P3, b: P3) -> P3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn mat_vec(m: &[[f64; 3]; 3], x: P3) -> P3 {
+    [0, 1, 2].map(|i| m[i][0] * x[0] + m[i][1] * x[1] + m[i][2] * x[2])
+}
+fn mat_t_vec(m: &[[f64; 3]; 3], x: P3) -> P3 {
+    [0, 1, 2].map(|i| m[0][i] * x[0] + m[1][i] * x[1] + m[2][i] * x[2])
+}
+fn mat_mul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mut c = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            c[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+        }
+    }
+    c
+}
+/// Rotation matrix of the rotation vector `w` (Rodrigues).
+fn rotation_from_vector(w: P3) -> [[f64; 3]; 3] {
+    let th = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+    let mut r = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    if th < 1e-300 {
+        return r;
+    }
+    let k = [w[0] / th, w[1] / th, w[2] / th];
+    let (s, c) = th.sin_cos();
+    let kx = [[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]];
+    for i in 0..3 {
+        for j in 0..3 {
+            let kk = k[i] * k[j] - if i == j { 1.0 } else { 0.0 };
+            r[i][j] += s * kx[i][j] + (1.0 - c) * kk;
+        }
+    }
+    r
+}
+
+impl Solver {
+    /// Prepares the solver: effective masses (ties condensed, rigid bodies gathered), colours,
+    /// time step `0.9 x` the stable step (or `dt_s` if given and stable).
+    pub fn new(model: Model, dt_s: Option<f64>) -> Result<Solver> {
+        let n = model.node_count();
+        let mut eff_mass = model.nodal_mass_kg.clone();
+        let mut role = model.fixed.clone();
+        // Ties: the slave's mass goes to its masters with the interpolation weights (row sum
+        // of T^T M T for a lumped M).
+        for p in &model.ties {
+            if role[p.slave] & ROLE_SLAVE != 0 {
+                return Err(Error::Mesh(format!(
+                    "node {} is the slave of two ties",
+                    p.slave
+                )));
+            }
+            role[p.slave] |= ROLE_SLAVE;
+        }
+        for p in &model.ties {
+            for m in p.master {
+                if role[m] & ROLE_SLAVE != 0 {
+                    return Err(Error::Mesh(format!(
+                        "node {m} is both a tie master and a tie slave (chained ties)"
+                    )));
+                }
+            }
+            let ms = eff_mass[p.slave];
+            for (k, m) in p.master.iter().enumerate() {
+                eff_mass[*m] += p.weights[k] * ms;
+            }
+            eff_mass[p.slave] = 0.0;
+        }
+        for pm in &model.prescribed {
+            for &nd in &pm.nodes {
+                role[nd] |= 1 << (pm.direction as u8 + PRESCRIBED_SHIFT);
+            }
+        }
+        let mut rigid = Vec::new();
+        for rb in &model.rigid_bodies {
+            let mut mass = 0.0;
+            let mut c = [0.0; 3];
+            for &nd in &rb.nodes {
+                if role[nd] & ROLE_SLAVE != 0 {
+                    return Err(Error::Mesh(format!(
+                        "rigid body {}: node {nd} is a tie slave",
+                        rb.name
+                    )));
+                }
+                role[nd] |= ROLE_RIGID;
+                let m = eff_mass[nd];
+                mass += m;
+                for i in 0..3 {
+                    c[i] += m * model.mesh.nodes[nd][i];
+                }
+            }
+            if !(mass > 0.0) {
+                return Err(Error::input("model", &rb.name, "rigid body has no mass"));
+            }
+            c = c.map(|x| x / mass);
+            let mut inertia = [[0.0; 3]; 3];
+            for &nd in &rb.nodes {
+                let m = eff_mass[nd];
+                let r = [0, 1, 2].map(|i| model.mesh.nodes[nd][i] - c[i]);
+                let r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+                for i in 0..3 {
+                    for j in 0..3 {
+                        inertia[i][j] += m * (if i == j { r2 } else { 0.0 } - r[i] * r[j]);
+                    }
+                }
+            }
+            // A rigid set on a line (or one node) has a singular inertia: regularise with a
+            // tiny isotropic part so that the inverse exists (its rotation is then free).
+            let trace = inertia[0][0] + inertia[1][1] + inertia[2][2];
+            let reg = 1e-9 * trace.max(mass * 1e-12);
+            for (i, row) in inertia.iter_mut().enumerate() {
+                row[i] += reg;
+            }
+            let det = super::element::det3(&inertia);
+            let inertia0_inv = super::element::inverse3(&inertia, det);
+            rigid.push(RigidState {
+                mass_kg: mass,
+                centre0_m: c,
+                centre_m: c,
+                velocity_m_per_s: [0.0; 3],
+                rotation: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                angular_momentum: [0.0; 3],
+                inertia0: inertia,
+                inertia0_inv,
+            });
+        }
+        let mut inv_mass = vec![0.0; n];
+        for i in 0..n {
+            if role[i] & (ROLE_SLAVE | ROLE_RIGID) == 0 {
+                if !(eff_mass[i] > 0.0) {
+                    return Err(Error::Mesh(format!(
+                        "node {i} has no mass (not in any element and no point mass)"
+                    )));
+                }
+                inv_mass[i] = 1.0 / eff_mass[i];
+            }
+        }
+        // Fast path: one-point elements without element damping run four at a time.
+        let fast = matches!(model.elements, Elements::OnePoint(_))
+            && !model.viscous_hourglass
+            && model.stiffness_damping_s == 0.0;
+        let batches: Vec<ElementBatch> = match &model.elements {
+            Elements::OnePoint(els) if fast => els.chunks(LANES).map(ElementBatch::pack).collect(),
+            _ => Vec::new(),
+        };
+        let colours = if fast {
+            colour_blocks(batches.len(), BLOCK_ELEMENTS / LANES, n, |b| {
+                batches[b]
+                    .nodes
+                    .iter()
+                    .flat_map(|lanes| lanes.iter().copied())
+                    .collect()
+            })?
+        } else {
+            colour_blocks(model.elements.len(), BLOCK_ELEMENTS, n, |e| {
+                model.elements.nodes(e).to_vec()
+            })?
+        };
+        let mut discrete_nodes: Vec<usize> = model
+            .springs
+            .iter()
+            .flat_map(|s| std::iter::once(s.node_a).chain(s.node_b))
+            .chain(model.loads.iter().flat_map(|l| l.nodes.iter().copied()))
+            .collect();
+        discrete_nodes.sort_unstable();
+        discrete_nodes.dedup();
+        let n_chunks = n.div_ceil(NODE_CHUNK);
+        let kernel = KernelOptions {
+            viscous_hourglass: model.viscous_hourglass,
+            physical_hourglass: model.physical_hourglass,
+            stiffness_damping_s: model.stiffness_damping_s,
+        };
+        let mut solver = Solver {
+            u: vec![[0.0; 3]; n],
+            v: vec![[0.0; 3]; n],
+            time_s: 0.0,
+            step: 0,
+            dt_s: 0.0,
+            work: WorkTotals::default(),
+            rigid,
+            output: OutputFields {
+                displacement: vec![[0.0; 3]; n],
+                velocity: vec![[0.0; 3]; n],
+                acceleration: vec![[0.0; 3]; n],
+            },
+            f_int: vec![[0.0; 3]; n],
+            f_aux: vec![[0.0; 3]; n],
+            inv_mass,
+            eff_mass,
+            role,
+            prescribed_velocity: vec![[0.0; 3]; n],
+            colours,
+            chunk_partials: Vec::with_capacity(n_chunks),
+            discrete_v_old: vec![[0.0; 3]; discrete_nodes.len()],
+            discrete_nodes,
+            spring_force: vec![[0.0; 3]; model.springs.len()],
+            kernel,
+            batches,
+            avx2: super::batch::uses_avx2(),
+            last_energy: None,
+            baseline_pending: true,
+            model,
+        };
+        let stable = solver.stable_time_step_s()?;
+        solver.dt_s = match dt_s {
+            None => 0.9 * stable.0,
+            Some(dt) if dt > 0.0 && dt <= stable.0 => dt,
+            Some(dt) => {
+                return Err(Error::input(
+                    "command line",
+                    "time_step_s",
+                    format!(
+                        "{dt:.4e} s is above the stable limit {:.4e} s (set by {}); allowed: (0, {:.4e}]",
+                        stable.0, stable.1, stable.0
+                    ),
+                ))
+            }
+        };
+        Ok(solver)
+    }
+
+    /// Stable time step (s) and what sets it: the smallest element transit `L / c_L` (current
+    /// configuration, `L = V / A_max`), spring limits `2 sqrt(m_eff / k)`, and registered bounds.
+    pub fn stable_time_step_s(&self) -> Result<(f64, String)> {
+        let n_el = self.model.elements.len();
+        let (mut best, mut what) = (f64::INFINITY, String::from("nothing"));
+        if n_el > 0 {
+            let (dt, e) = (0..n_el)
+                .into_par_iter()
+                .map(|e| {
+                    let nodes = self.model.elements.nodes(e);
+                    let x: [P3; 8] = std::array::from_fn(|a| {
+                        let nd = nodes[a] as usize;
+                        [0, 1, 2].map(|i| self.model.mesh.nodes[nd][i] + self.u[nd][i])
+                    });
+                    (
+                        crate::mesh::hex::characteristic_length(&x)
+                            / self.model.element_wave_speed_m_per_s[e],
+                        e,
+                    )
+                })
+                .reduce(
+                    || (f64::INFINITY, 0),
+                    |a, b| {
+                        if b.0 < a.0 || (b.0 == a.0 && b.1 < a.1) {
+                            b
+                        } else {
+                            a
+                        }
+                    },
+                );
+            if !(dt > 0.0) {
+                return Err(Error::Numerical(format!(
+                    "element {e} has a non-positive characteristic length"
+                )));
+            }
+            best = dt;
+            what = format!("element {e}");
+        }
+        for s in &self.model.springs {
+            let k = s.stiffness_n_per_m.iter().fold(0.0f64, |m, &k| m.max(k));
+            if k <= 0.0 {
+                continue;
+            }
+            let ma = self.eff_mass_for_bound(s.node_a);
+            let inv = 1.0 / ma
+                + s.node_b
+                    .map(|b| 1.0 / self.eff_mass_for_bound(b))
+                    .unwrap_or(0.0);
+            let dt = 2.0 / (k * inv).sqrt();
+            if dt < best {
+                best = dt;
+                what = format!("spring {}", s.name);
+            }
+        }
+        for (name, dt) in &self.model.time_step_bounds {
+            if *dt < best {
+                best = *dt;
+                what = name.clone();
+            }
+        }
+        if !best.is_finite() {
+            return Err(Error::input(
+                "model",
+                "elements",
+                "the model has no element and no spring",
+            ));
+        }
+        Ok((best, what))
+    }
+
+    fn eff_mass_for_bound(&self, node: usize) -> f64 {
+        if self.role[node] & ROLE_RIGID != 0 {
+            // Member of a rigid body: the body's mass moves with it.
+            for (rb, st) in self.model.rigid_bodies.iter().zip(&self.rigid) {
+                if rb.nodes.binary_search(&node).is_ok() {
+                    return st.mass_kg;
+                }
+            }
+        }
+        self.eff_mass[node].max(1e-300)
+    }
+
+    /// Sets an initial velocity field `v = v0 + omega x (X - centre)` on `nodes` (all when None),
+    /// and the matching rigid-body momenta.
+    pub fn set_initial_velocity(
+        &mut self,
+        nodes: Option<&[usize]>,
+        translation_m_per_s: P3,
+        omega_rad_per_s: P3,
+        centre_m: P3,
+    ) {
+        let all: Vec<usize>;
+        let list = match nodes {
+            Some(l) => l,
+            None => {
+                all = (0..self.model.node_count()).collect();
+                &all
+            }
+        };
+        for &nd in list {
+            let x = self.model.mesh.nodes[nd];
+            let r = [0, 1, 2].map(|i| x[i] + self.u[nd][i] - centre_m[i]);
+            let w = cross(omega_rad_per_s, r);
+            self.v[nd] = [0, 1, 2].map(|i| translation_m_per_s[i] + w[i]);
+        }
+        for (rb, st) in self.model.rigid_bodies.iter().zip(self.rigid.iter_mut()) {
+            if rb.nodes.iter().all(|n| list.contains(n)) {
+                let r = [0, 1, 2].map(|i| st.centre_m[i] - centre_m[i]);
+                let w = cross(omega_rad_per_s, r);
+                st.velocity_m_per_s = [0, 1, 2].map(|i| translation_m_per_s[i] + w[i]);
+                let inertia = mat_mul(
+                    &mat_mul(&st.rotation, &st.inertia0),
+                    &transpose(&st.rotation),
+                );
+                st.angular_momentum = mat_vec(&inertia, omega_rad_per_s);
+            }
+        }
+    }
+
+    /// Only the element loop of a step (internal forces of the current state), for profiling
+    /// the split between element and node work.
+    pub fn compute_internal_forces(&mut self) {
+        self.element_forces();
+    }
+
+    /// Elements' internal forces into `f_int` (colour by colour).
+    fn element_forces(&mut self) {
+        let n = self.f_int.len();
+        let f_ptr = SharedMut(self.f_int.as_mut_ptr());
+        // Zero in parallel chunks.
+        self.f_int
+            .par_chunks_mut(NODE_CHUNK)
+            .for_each(|c| c.fill([0.0; 3]));
+        let _ = n;
+        let (u, v, opts) = (&self.u, &self.v, self.kernel);
+        if !self.batches.is_empty() {
+            let (batches, physical, avx2) = (&self.batches, opts.physical_hourglass, self.avx2);
+            for colour in &self.colours {
+                colour.par_iter().for_each(|range| {
+                    // SAFETY: blocks of one colour share no node; indices come from the mesh.
+                    unsafe {
+                        add_block_forces(&batches[range.clone()], u, f_ptr.ptr(), physical, avx2)
+                    }
+                });
+            }
+            return;
+        }
+        for colour in &self.colours {
+            match &self.model.elements {
+                Elements::OnePoint(els) => colour.par_iter().for_each(|range| {
+                    let mut fe = [[0.0; 3]; 8];
+                    for el in &els[range.clone()] {
+                        one_point_forces::<false>(el, u, v, opts, &mut fe);
+                        for a in 0..8 {
+                            // SAFETY: blocks of one colour share no node.
+                            let dst = unsafe { &mut *f_ptr.at(el.nodes[a] as usize) };
+                            dst[0] += fe[a][0];
+                            dst[1] += fe[a][1];
+                            dst[2] += fe[a][2];
+                        }
+                    }
+                }),
+                Elements::Full(els) => colour.par_iter().for_each(|range| {
+                    let mut fe = [[0.0; 3]; 8];
+                    for el in &els[range.clone()] {
+                        full_forces::<false>(el, u, opts.stiffness_damping_s, v, &mut fe);
+                        for a in 0..8 {
+                            // SAFETY: blocks of one colour share no node.
+                            let dst = unsafe { &mut *f_ptr.at(el.nodes[a] as usize) };
+                            dst[0] += fe[a][0];
+                            dst[1] += fe[a][1];
+                            dst[2] += fe[a][2];
+                        }
+                    }
+                }),
+            }
+        }
+    }
+
+    /// Element energies of the current state (strain, hourglass, smallest det F and where).
+    pub fn element_energy(&self) -> (ElementEnergy, usize) {
+        let n = self.model.elements.len();
+        let n_blocks = n.div_ceil(BLOCK_ELEMENTS);
+        let (u, v, opts) = (&self.u, &self.v, self.kernel);
+        let per_block: Vec<(ElementEnergy, usize)> = (0..n_blocks)
+            .into_par_iter()
+            .map(|b| {
+                let mut acc = ElementEnergy {
+                    min_det_f: f64::INFINITY,
+                    ..Default::default()
+                };
+                let mut worst = 0;
+                let mut fe = [[0.0; 3]; 8];
+                for e in b * BLOCK_ELEMENTS..((b + 1) * BLOCK_ELEMENTS).min(n) {
+                    let en = match &self.model.elements {
+                        Elements::OnePoint(els) => {
+                            one_point_forces::<true>(&els[e], u, v, opts, &mut fe)
+                        }
+                        Elements::Full(els) => full_forces::<true>(&els[e], u, 0.0, v, &mut fe),
+                    };
+                    acc.strain_j += en.strain_j;
+                    acc.hourglass_j += en.hourglass_j;
+                    if !(en.min_det_f >= acc.min_det_f) {
+                        acc.min_det_f = en.min_det_f;
+                        worst = e;
+                    }
+                }
+                (acc, worst)
+            })
+            .collect();
+        let mut total = ElementEnergy {
+            min_det_f: f64::INFINITY,
+            ..Default::default()
+        };
+        let mut worst = 0;
+        for (en, w) in per_block {
+            total.strain_j += en.strain_j;
+            total.hourglass_j += en.hourglass_j;
+            if !(en.min_det_f >= total.min_det_f) {
+                total.min_det_f = en.min_det_f;
+                worst = w;
+            }
+        }
+        (total, worst)
+    }
+
+    /// Spring potential energy (J) of the current state.
+    pub fn spring_energy_j(&self) -> f64 {
+        let mut e = 0.0;
+        for s in &self.model.springs {
+            let ub = s.node_b.map(|b| self.u[b]).unwrap_or([0.0; 3]);
+            for i in 0..3 {
+                let d = ub[i] - self.u[s.node_a][i];
+                e += 0.5 * s.stiffness_n_per_m[i] * d * d;
+            }
+        }
+        e
+    }
+
+    /// One step without auxiliary forces.
+    pub fn step(&mut self) -> Result<()> {
+        self.step_with(&mut NoAux, false, false)
+    }
+
+    /// One central-difference step. `output` fills [`Solver::output`] with the state of t_n;
+    /// `energy` also makes the energy report of t_n (returned by [`Solver::last_energy`]).
+    pub fn step_with<A: AuxForces + ?Sized>(
+        &mut self,
+        aux: &mut A,
+        output: bool,
+        energy: bool,
+    ) -> Result<()> {
+        let output = output || energy;
+        let dt = self.dt_s;
+        let t = self.time_s;
+        let t_next = t + dt;
+        self.element_forces();
+        // Auxiliary forces: nodal loads, springs, then the caller's (contact).
+        self.f_aux
+            .par_chunks_mut(NODE_CHUNK)
+            .for_each(|c| c.fill([0.0; 3]));
+        for load in &self.model.loads {
+            let s = load.curve.value(t) / load.nodes.len() as f64;
+            for &nd in &load.nodes {
+                for i in 0..3 {
+                    self.f_aux[nd][i] += s * load.total_force_n[i];
+                }
+            }
+        }
+        for (k, sp) in self.model.springs.iter().enumerate() {
+            let (ua, va) = (self.u[sp.node_a], self.v[sp.node_a]);
+            let (ub, vb) = match sp.node_b {
+                Some(b) => (self.u[b], self.v[b]),
+                None => ([0.0; 3], [0.0; 3]),
+            };
+            let f: P3 = [0, 1, 2].map(|i| {
+                sp.stiffness_n_per_m[i] * (ub[i] - ua[i])
+                    + sp.damping_n_s_per_m[i] * (vb[i] - va[i])
+            });
+            self.spring_force[k] = f;
+            for i in 0..3 {
+                self.f_aux[sp.node_a][i] += f[i];
+            }
+            if let Some(b) = sp.node_b {
+                for i in 0..3 {
+                    self.f_aux[b][i] -= f[i];
+                }
+            }
+        }
+        aux.add_forces(t, dt, &self.u, &self.v, &mut self.f_aux);
+        // Tie slaves pass their forces to the masters.
+        for p in &self.model.ties {
+            let (fi, fa) = (self.f_int[p.slave], self.f_aux[p.slave]);
+            for (k, m) in p.master.iter().enumerate() {
+                let w = p.weights[k];
+                for i in 0..3 {
+                    self.f_int[*m][i] += w * fi[i];
+                    self.f_aux[*m][i] += w * fa[i];
+                }
+            }
+        }
+        // Prescribed velocities of t_{n+1/2}.
+        for pm in &self.model.prescribed {
+            let vel = match pm.kind {
+                MotionKind::Velocity => pm.curve.value(t + 0.5 * dt),
+                MotionKind::Displacement => (pm.curve.value(t_next) - pm.curve.value(t)) / dt,
+            };
+            for &nd in &pm.nodes {
+                self.prescribed_velocity[nd][pm.direction] = vel;
+            }
+        }
+        // Velocities v_{n-1/2} of the nodes that springs and loads act on, for their work.
+        for (k, &nd) in self.discrete_nodes.iter().enumerate() {
+            self.discrete_v_old[k] = self.v[nd];
+        }
+        // Node loop over fixed chunks.
+        let n = self.u.len();
+        let n_chunks = n.div_ceil(NODE_CHUNK);
+        let g = self.model.gravity_m_per_s2;
+        let alpha = self.model.mass_damping_per_s;
+        let u_ptr = SharedMut(self.u.as_mut_ptr());
+        let v_ptr = SharedMut(self.v.as_mut_ptr());
+        let od_ptr = SharedMut(self.output.displacement.as_mut_ptr());
+        let ov_ptr = SharedMut(self.output.velocity.as_mut_ptr());
+        let oa_ptr = SharedMut(self.output.acceleration.as_mut_ptr());
+        let (f_int, f_aux, inv_mass, eff_mass, role, pv) = (
+            &self.f_int,
+            &self.f_aux,
+            &self.inv_mass,
+            &self.eff_mass,
+            &self.role,
+            &self.prescribed_velocity,
+        );
+        (0..n_chunks)
+            .into_par_iter()
+            .map(|c| {
+                let mut w = WorkTotals::default();
+                let mut kinetic = 0.0;
+                for nd in c * NODE_CHUNK..((c + 1) * NODE_CHUNK).min(n) {
+                    let r = role[nd];
+                    if r & (ROLE_SLAVE | ROLE_RIGID) != 0 {
+                        continue;
+                    }
+                    let m = eff_mass[nd];
+                    let im = inv_mass[nd];
+                    // SAFETY: each node index belongs to exactly one chunk.
+                    let (un, vn) = unsafe { (&mut *u_ptr.at(nd), &mut *v_ptr.at(nd)) };
+                    let (fi, fa) = (f_int[nd], f_aux[nd]);
+                    let mut vnew = [0.0; 3];
+                    for i in 0..3 {
+                        let force = fa[i] - fi[i] + m * g[i] - alpha * m * vn[i];
+                        vnew[i] = vn[i] + dt * force * im;
+                        if r & (1 << i) != 0 {
+                            vnew[i] = 0.0;
+                        } else if r & (1 << (i + PRESCRIBED_SHIFT as usize)) != 0 {
+                            vnew[i] = pv[nd][i];
+                        }
+                        let vbar = 0.5 * (vn[i] + vnew[i]);
+                        if r & ((1 << i) | (1 << (i + PRESCRIBED_SHIFT as usize))) != 0 {
+                            // Reaction = m a - f: its work keeps the balance honest.
+                            let reaction = m * (vnew[i] - vn[i]) / dt - force;
+                            w.reaction_j += dt * reaction * vbar;
+                        }
+                        w.internal_j += dt * fi[i] * vbar;
+                        w.aux_j += dt * fa[i] * vbar;
+                        w.gravity_j += dt * m * g[i] * vbar;
+                        w.mass_damping_j += dt * alpha * m * vn[i] * vbar;
+                        if output {
+                            kinetic += 0.5 * m * vbar * vbar;
+                            // SAFETY: as above.
+                            unsafe {
+                                (*od_ptr.at(nd))[i] = un[i];
+                                (*ov_ptr.at(nd))[i] = vbar;
+                                (*oa_ptr.at(nd))[i] = (vnew[i] - vn[i]) / dt;
+                            }
+                        }
+                        un[i] += dt * vnew[i];
+                    }
+                    *vn = vnew;
+                }
+                (w, kinetic)
+            })
+            .collect_into_vec(&mut self.chunk_partials);
+        let mut inc = WorkTotals::default();
+        let mut kinetic = 0.0;
+        for (w, k) in &self.chunk_partials {
+            inc.add_scaled(w, 1.0);
+            kinetic += k;
+        }
+        // Rigid bodies.
+        for b in 0..self.rigid.len() {
+            let (w, k) = self.advance_rigid_body(b, t, dt, output);
+            inc.add_scaled(&w, 1.0);
+            kinetic += k;
+        }
+        // Tie slaves follow their masters.
+        for p in &self.model.ties {
+            let (mut us, mut vs) = ([0.0; 3], [0.0; 3]);
+            for (k, m) in p.master.iter().enumerate() {
+                for i in 0..3 {
+                    us[i] += p.weights[k] * self.u[*m][i];
+                    vs[i] += p.weights[k] * self.v[*m][i];
+                }
+            }
+            if output {
+                let mut ov = [0.0; 3];
+                let mut oa = [0.0; 3];
+                for (k, m) in p.master.iter().enumerate() {
+                    for i in 0..3 {
+                        ov[i] += p.weights[k] * self.output.velocity[*m][i];
+                        oa[i] += p.weights[k] * self.output.acceleration[*m][i];
+                    }
+                }
+                self.output.displacement[p.slave] = self.u[p.slave];
+                self.output.velocity[p.slave] = ov;
+                self.output.acceleration[p.slave] = oa;
+            }
+            self.u[p.slave] = us;
+            self.v[p.slave] = vs;
+        }
+        // Work of springs and loads (to separate them from contact in the aux work): forces at
+        // t_n times the centred velocity.
+        if !self.discrete_nodes.is_empty() {
+            let (sp_w, sp_d, ld_w) = self.discrete_work(t, dt);
+            inc.spring_j += sp_w;
+            inc.spring_damping_j += sp_d;
+            inc.load_j += ld_w;
+        }
+        if energy {
+            let mut half = self.work;
+            half.add_scaled(&inc, 0.5);
+            let mut report = self.energy_report(t, kinetic, &half);
+            if self.baseline_pending {
+                // First report: the energy present now is the initial energy.
+                self.work.initial_j += report.balance_error_j;
+                report.external_work_j += report.balance_error_j;
+                report.balance_error_j = 0.0;
+                report.balance_ratio = 0.0;
+                self.baseline_pending = false;
+            }
+            self.last_energy = Some(report);
+        }
+        self.work.add_scaled(&inc, 1.0);
+        self.time_s = t_next;
+        self.step += 1;
+        Ok(())
+    }
+
+    /// Work increments, over the step just taken, of the springs' forces on their nodes, of the
+    /// spring dampers (dissipation), and of the nodal loads: forces of t_n times the centred
+    /// velocity `vbar_n = (v_{n-1/2} + v_{n+1/2}) / 2`, the same product the node loop uses, so
+    /// that the contact share of the auxiliary work is exact.
+    fn discrete_work(&self, t: f64, dt: f64) -> (f64, f64, f64) {
+        let vbar = |nd: usize| -> P3 {
+            let k = self
+                .discrete_nodes
+                .binary_search(&nd)
+                .expect("discrete node");
+            [0, 1, 2].map(|i| 0.5 * (self.discrete_v_old[k][i] + self.v[nd][i]))
+        };
+        let v_old = |nd: usize| -> P3 {
+            let k = self
+                .discrete_nodes
+                .binary_search(&nd)
+                .expect("discrete node");
+            self.discrete_v_old[k]
+        };
+        let (mut work, mut damp, mut load) = (0.0, 0.0, 0.0);
+        for (sp, f) in self.model.springs.iter().zip(&self.spring_force) {
+            let va = vbar(sp.node_a);
+            let vb = sp.node_b.map(vbar).unwrap_or([0.0; 3]);
+            let dva_old = v_old(sp.node_a);
+            let dvb_old = sp.node_b.map(v_old).unwrap_or([0.0; 3]);
+            for i in 0..3 {
+                work += dt * f[i] * (va[i] - vb[i]);
+                damp += dt * sp.damping_n_s_per_m[i] * (dvb_old[i] - dva_old[i]) * (vb[i] - va[i]);
+            }
+        }
+        for l in &self.model.loads {
+            let s = l.curve.value(t) / l.nodes.len() as f64;
+            for &nd in &l.nodes {
+                let vb = vbar(nd);
+                for i in 0..3 {
+                    load += dt * s * l.total_force_n[i] * vb[i];
+                }
+            }
+        }
+        (work, damp, load)
+    }
+
+    /// Advances rigid body `b` (forces of its members at t_n) and moves its nodes.
+    fn advance_rigid_body(&mut self, b: usize, t: f64, dt: f64, output: bool) -> (WorkTotals, f64) {
+        let spec = &self.model.rigid_bodies[b];
+        let st = &mut self.rigid[b];
+        let g = self.model.gravity_m_per_s2;
+        let alpha = self.model.mass_damping_per_s;
+        let mut force = [0.0; 3];
+        let mut moment = [0.0; 3];
+        let mut w = WorkTotals::default();
+        for &nd in &spec.nodes {
+            let m = self.eff_mass[nd];
+            let x = [0, 1, 2].map(|i| self.model.mesh.nodes[nd][i] + self.u[nd][i]);
+            let f: P3 = [0, 1, 2].map(|i| {
+                self.f_aux[nd][i] - self.f_int[nd][i] + m * g[i] - alpha * m * self.v[nd][i]
+            });
+            for i in 0..3 {
+                force[i] += f[i];
+            }
+            let r = [0, 1, 2].map(|i| x[i] - st.centre_m[i]);
+            let mm = cross(r, f);
+            for i in 0..3 {
+                moment[i] += mm[i];
+            }
+        }
+        let mut applied_torque = [0.0; 3];
+        if let Some(tq) = &spec.torque {
+            let s = tq.curve_n_m.value(t);
+            applied_torque = tq.axis.map(|a| a * s);
+            for i in 0..3 {
+                moment[i] += applied_torque[i];
+            }
+        }
+        let v_old = st.velocity_m_per_s;
+        let mut v_new = [0, 1, 2].map(|i| v_old[i] + dt * force[i] / st.mass_kg);
+        for i in 0..3 {
+            if let Some(c) = &spec.prescribed_translation_m[i] {
+                v_new[i] = (c.value(t + dt) - c.value(t)) / dt;
+                let reaction = st.mass_kg * (v_new[i] - v_old[i]) / dt - force[i];
+                w.reaction_j += dt * reaction * 0.5 * (v_old[i] + v_new[i]);
+            }
+        }
+        let l_old = st.angular_momentum;
+        let l_new = [0, 1, 2].map(|i| l_old[i] + dt * moment[i]);
+        // omega = R I0^-1 R^T L (inertia of the current orientation).
+        let omega = mat_vec(
+            &st.rotation,
+            mat_vec(&st.inertia0_inv, mat_t_vec(&st.rotation, l_new)),
+        );
+        let omega_old = mat_vec(
+            &st.rotation,
+            mat_vec(&st.inertia0_inv, mat_t_vec(&st.rotation, l_old)),
+        );
+        for i in 0..3 {
+            w.torque_j += dt * applied_torque[i] * 0.5 * (omega[i] + omega_old[i]);
+        }
+        let dr = rotation_from_vector(omega.map(|x| x * dt));
+        st.rotation = mat_mul(&dr, &st.rotation);
+        for i in 0..3 {
+            st.centre_m[i] += dt * v_new[i];
+        }
+        st.velocity_m_per_s = v_new;
+        st.angular_momentum = l_new;
+        let mut kinetic = 0.0;
+        for &nd in &spec.nodes {
+            let x0 = self.model.mesh.nodes[nd];
+            let r0 = [0, 1, 2].map(|i| x0[i] - st.centre0_m[i]);
+            let r = mat_vec(&st.rotation, r0);
+            let m = self.eff_mass[nd];
+            let mut vnew = [0.0; 3];
+            for i in 0..3 {
+                let u_new = st.centre_m[i] + r[i] - x0[i];
+                vnew[i] = (u_new - self.u[nd][i]) / dt;
+                let vbar = 0.5 * (self.v[nd][i] + vnew[i]);
+                let fi = self.f_int[nd][i];
+                let fa = self.f_aux[nd][i];
+                w.internal_j += dt * fi * vbar;
+                w.aux_j += dt * fa * vbar;
+                w.gravity_j += dt * m * g[i] * vbar;
+                w.mass_damping_j += dt * alpha * m * self.v[nd][i] * vbar;
+                if output {
+                    kinetic += 0.5 * m * vbar * vbar;
+                    self.output.displacement[nd][i] = self.u[nd][i];
+                    self.output.velocity[nd][i] = vbar;
+                    self.output.acceleration[nd][i] = (vnew[i] - self.v[nd][i]) / dt;
+                }
+                self.u[nd][i] = u_new;
+            }
+            self.v[nd] = vnew;
+        }
+        (w, kinetic)
+    }
+
+    fn energy_report(&self, t: f64, kinetic: f64, w: &WorkTotals) -> EnergyReport {
+        let (el, worst) = self.element_energy();
+        let spring = self.spring_energy_j();
+        let element_damping =
+            if self.kernel.viscous_hourglass || self.kernel.stiffness_damping_s > 0.0 {
+                // Internal work minus the stored potentials is what the element dampers dissipated.
+                (w.internal_j - el.strain_j - el.hourglass_j).max(0.0)
+            } else {
+                0.0
+            };
+        let damping = w.mass_damping_j + w.spring_damping_j + element_damping;
+        // Work done on the auxiliary array that is neither springs nor loads: absorbed by contact.
+        let contact = -(w.aux_j - w.spring_j - w.load_j);
+        let external = w.gravity_j + w.load_j + w.torque_j + w.reaction_j + w.initial_j;
+        let stored = kinetic + el.strain_j + el.hourglass_j + spring;
+        let error = stored + damping + contact - external;
+        let scale = stored.max(external.abs()).max(1e-300);
+        EnergyReport {
+            time_s: t,
+            kinetic_j: kinetic,
+            strain_j: el.strain_j,
+            hourglass_j: el.hourglass_j,
+            spring_j: spring,
+            damping_j: damping,
+            contact_j: contact,
+            external_work_j: external,
+            balance_error_j: error,
+            balance_ratio: error.abs() / scale,
+            min_det_f: el.min_det_f,
+            min_det_f_element: worst,
+        }
+    }
+
+    /// The energy report of the last output step.
+    pub fn last_energy(&self) -> Option<EnergyReport> {
+        self.last_energy
+    }
+
+    /// Out-of-balance force norm `|f_ext - f_int|` over the free directions of the free nodes,
+    /// and a reference force norm `|f_int| + |f_ext|` (N), with the forces of the last step.
+    pub fn residual_norms(&self) -> (f64, f64) {
+        let g = self.model.gravity_m_per_s2;
+        let (mut res, mut fi2, mut fe2) = (0.0, 0.0, 0.0);
+        for nd in 0..self.u.len() {
+            let r = self.role[nd];
+            if r & (ROLE_SLAVE | ROLE_RIGID) != 0 {
+                continue;
+            }
+            for i in 0..3 {
+                if r & ((1 << i) | (1 << (i + PRESCRIBED_SHIFT as usize))) != 0 {
+                    continue;
+                }
+                let fe = self.f_aux[nd][i] + self.eff_mass[nd] * g[i];
+                let fi = self.f_int[nd][i];
+                res += (fe - fi) * (fe - fi);
+                fi2 += fi * fi;
+                fe2 += fe * fe;
+            }
+        }
+        for (b, st) in self.rigid.iter().enumerate() {
+            let mut f = [0.0; 3];
+            for &nd in &self.model.rigid_bodies[b].nodes {
+                for i in 0..3 {
+                    f[i] += self.f_aux[nd][i] - self.f_int[nd][i] + self.eff_mass[nd] * g[i];
+                }
+            }
+            for (i, fi) in f.iter().enumerate() {
+                if self.model.rigid_bodies[b].prescribed_translation_m[i].is_none() {
+                    res += fi * fi;
+                }
+            }
+            let _ = st;
+        }
+        (res.sqrt(), fi2.sqrt() + fe2.sqrt())
+    }
+
+    /// Element and auxiliary force arrays of the last step.
+    pub fn force_arrays(&self) -> (&[P3], &[P3]) {
+        (&self.f_int, &self.f_aux)
+    }
+
+    /// Restarts the energy bookkeeping: the next report's energy is the new initial energy
+    /// (after a preload, or after initial velocities were set by hand).
+    pub fn rebase_energy(&mut self) {
+        self.work = WorkTotals::default();
+        self.baseline_pending = true;
+    }
+
+    /// Stops every rigid body (after a preload).
+    pub fn zero_rigid_velocities(&mut self) {
+        for st in &mut self.rigid {
+            st.velocity_m_per_s = [0.0; 3];
+            st.angular_momentum = [0.0; 3];
+        }
+    }
+
+    /// Effective lumped masses (after ties), for other modules.
+    pub fn effective_mass(&self) -> &[f64] {
+        &self.eff_mass
+    }
+
+    /// Element colours (number of colours, blocks) for reports.
+    pub fn colour_summary(&self) -> (usize, usize) {
+        (
+            self.colours.len(),
+            self.colours.iter().map(|c| c.len()).sum(),
+        )
+    }
+
+    /// Checks the state: any non-finite displacement or an inverted element is an instability.
+    pub fn check_state(&self, energy: &EnergyReport, balance_threshold: f64) -> Result<()> {
+        if let Some(nd) = self.u.iter().position(|x| !x.iter().all(|c| c.is_finite())) {
+            return Err(Error::Numerical(format!(
+                "unstable at t = {:.6e} s (step {}): node {nd} has a non-finite displacement",
+                self.time_s, self.step
+            )));
+        }
+        if !(energy.min_det_f > 0.0) {
+            let e = energy.min_det_f_element;
+            return Err(Error::Numerical(format!(
+                "element {e} inverted at t = {:.6e} s (step {}): det F = {:.3e}, nodes {:?}",
+                energy.time_s,
+                self.step,
+                energy.min_det_f,
+                self.model.elements.nodes(e)
+            )));
+        }
+        if !energy.kinetic_j.is_finite() || energy.balance_ratio > balance_threshold {
+            let worst = self
+                .v
+                .iter()
+                .enumerate()
+                .map(|(i, v)| (i, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]))
+                .fold(
+                    (0, -1.0),
+                    |a, b| if b.1 > a.1 || b.1.is_nan() { b } else { a },
+                );
+            return Err(Error::Numerical(format!(
+                "energy balance lost at t = {:.6e} s (step {}): error {:.3e} J = {:.2} % of the energy (threshold {:.2} %); fastest node {} at {:.3e} m/s",
+                energy.time_s,
+                self.step,
+                energy.balance_error_j,
+                100.0 * energy.balance_ratio,
+                100.0 * balance_threshold,
+                worst.0,
+                worst.1.sqrt()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Crate-internal mutable access for restoring checkpoints (every part of the state).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn restore(
+        &mut self,
+        time_s: f64,
+        step: u64,
+        dt_s: f64,
+        u: Vec<P3>,
+        v: Vec<P3>,
+        work: WorkTotals,
+        rigid: Vec<RigidState>,
+    ) {
+        self.time_s = time_s;
+        self.step = step;
+        self.dt_s = dt_s;
+        self.u = u;
+        self.v = v;
+        self.work = work;
+        self.rigid = rigid;
+        self.baseline_pending = false;
+    }
+}
+
+fn transpose(m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mut t = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            t[i][j] = m[j][i];
+        }
+    }
+    t
+}

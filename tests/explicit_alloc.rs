@@ -1,0 +1,86 @@
+//! No heap allocation inside the time loop: a counting global allocator around steps of a model
+//! with every kind of part (elements, springs, loads, ties, a rigid body, prescribed motion,
+//! damping), on one and on two threads.
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use squeal::explicit::element::{ElasticMaterial, Formulation};
+use squeal::explicit::model::Model;
+use squeal::explicit::{Curve, MotionKind, NoAux, Solver};
+use squeal::mesh::cuboid;
+
+struct Counting;
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        System.alloc(layout)
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        System.dealloc(ptr, layout)
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        System.realloc(ptr, layout, new_size)
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn the_time_step_does_not_allocate() {
+    let steel = ElasticMaterial {
+        density_kg_per_m3: 7850.0,
+        youngs_modulus_pa: 210e9,
+        poisson_ratio: 0.3,
+    };
+    let materials: BTreeMap<u32, ElasticMaterial> = [(1, steel)].into_iter().collect();
+    let mesh = cuboid([40, 10, 10], [0.4, 0.1, 0.1], 1);
+    let mut m = Model::from_mesh(mesh, &materials, Formulation::default(), "test").unwrap();
+    m.gravity_m_per_s2 = [0.0, 0.0, -9.81];
+    m.mass_damping_per_s = 5.0;
+    m.stiffness_damping_s = 1e-8;
+    m.add_ground_springs("z0", [1e6, 1e6, 1e8], [10.0, 10.0, 100.0])
+        .unwrap();
+    m.add_load("x1", [0.0, 100.0, -1000.0], Curve::ramp(0.0, 1e-5, 1.0))
+        .unwrap();
+    m.prescribe(
+        "y0",
+        1,
+        MotionKind::Displacement,
+        Curve::ramp(0.0, 1e-3, 1e-5),
+    )
+    .unwrap();
+    let rb = m.add_rigid_body("x0").unwrap();
+    m.rigid_bodies[rb].torque = Some(squeal::explicit::model::TorqueLoad {
+        axis: [0.0, 1.0, 0.0],
+        curve_n_m: Curve::ramp(0.0, 1e-4, 100.0),
+    });
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut s = Solver::new(m.clone(), None).unwrap();
+            // Warm up (rayon's registry, first-touch of buffers), then count.
+            for _ in 0..3 {
+                s.step_with(&mut NoAux, true, false).unwrap();
+            }
+            let before = ALLOCATIONS.load(Ordering::SeqCst);
+            for k in 0..50 {
+                s.step_with(&mut NoAux, k % 5 == 0, false).unwrap();
+            }
+            let after = ALLOCATIONS.load(Ordering::SeqCst);
+            assert_eq!(
+                after - before,
+                0,
+                "{} allocations in 50 steps on {threads} thread(s)",
+                after - before
+            );
+        });
+    }
+}
