@@ -15,6 +15,7 @@ pub mod batch;
 pub mod bench;
 pub mod curve;
 pub mod element;
+pub mod linearised;
 pub mod model;
 pub mod preload;
 pub mod run;
