@@ -3,7 +3,9 @@
 //! The model is integrated with mass-proportional damping `alpha` set near critical for its
 //! lowest active mode, `alpha = 2 omega_1`. `omega_1` is estimated from the Rayleigh quotient of
 //! the current displacement, `omega^2 ~ (u . f_int) / (u . M u)`, which the slowest mode
-//! dominates as the relaxation converges (Underwood's adaptive dynamic relaxation). It stops
+//! dominates as the relaxation converges (Underwood's adaptive dynamic relaxation); `alpha` is
+//! kept above `min_damping_per_s`, since a body in flight over a one-sided contact shows no
+//! stiffness and the estimate would collapse, letting it bounce for ever. It stops
 //! when the out-of-balance force `|f_ext - f_int|` falls below `tolerance x |f_ext|`; then the
 //! velocities are zeroed and the energy bookkeeping restarts, so that the energy balance of the
 //! run that follows starts at zero.
@@ -18,6 +20,13 @@ use super::solver::{AuxForces, Solver};
 use crate::mesh::P3;
 use crate::{Error, Result};
 
+/// Largest `alpha dt` used. The damping force `-alpha m v_{n-1/2}` lags half a step, and the
+/// central-difference recurrence `x+ - 2x + x- = -(w h)^2 x - alpha h (x - x-)` is stable only
+/// while `(w h)^2 <= 4 - 2 alpha h`. The engine runs at `w_max h <= 1.8` (0.9 of the critical
+/// step), so `alpha h <= 0.38`; 0.1 keeps a margin for an underestimated `w_max` (e.g. a stiff
+/// contact penalty) since `w h <= 1.95` remains stable.
+const MAX_ALPHA_DT: f64 = 0.1;
+
 /// Options of the relaxation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PreloadOptions {
@@ -27,6 +36,12 @@ pub struct PreloadOptions {
     pub max_steps: u64,
     /// Damping re-estimated every this many steps.
     pub adapt_every_steps: u64,
+    /// Smallest damping coefficient (1/s), `2 x 2 pi x` the lowest frequency expected to matter.
+    pub min_damping_per_s: f64,
+    /// A fixed damping coefficient (1/s) instead of the adaptive one. Use it with contact: the
+    /// penalty springs dominate the Rayleigh quotient of the increments, and the estimate then
+    /// damps the slow mode (the body settling on its contact) far too much to converge.
+    pub fixed_damping_per_s: Option<f64>,
 }
 
 impl Default for PreloadOptions {
@@ -35,6 +50,9 @@ impl Default for PreloadOptions {
             tolerance: 1e-4,
             max_steps: 200_000,
             adapt_every_steps: 100,
+            // Critical damping of a 20 Hz mode (a wheel bouncing on its track is ~50-100 Hz).
+            min_damping_per_s: 2.0 * 2.0 * std::f64::consts::PI * 20.0,
+            fixed_damping_per_s: None,
         }
     }
 }
@@ -63,7 +81,10 @@ pub fn relax<A: AuxForces + ?Sized>(
     let t0 = solver.time_s;
     let step0 = solver.step;
     // Start with damping for a 1 kHz mode; adapted below.
-    let mut alpha = 2.0 * 2.0 * std::f64::consts::PI * 1000.0;
+    let mut alpha = opts
+        .fixed_damping_per_s
+        .unwrap_or(2.0 * 2.0 * std::f64::consts::PI * 1000.0)
+        .min(MAX_ALPHA_DT / solver.dt_s);
     let mut residual = f64::INFINITY;
     let mut steps = 0;
     // Rayleigh quotient on increments between adaptations, so constant loads cancel:
@@ -99,8 +120,10 @@ pub fn relax<A: AuxForces + ?Sized>(
                         den += mass[i] * du * du;
                     }
                 }
-                if num > 0.0 && den > 0.0 {
-                    alpha = (2.0 * (num / den).sqrt()).min(0.5 / solver.dt_s);
+                if num > 0.0 && den > 0.0 && opts.fixed_damping_per_s.is_none() {
+                    alpha = (2.0 * (num / den).sqrt())
+                        .max(opts.min_damping_per_s)
+                        .min(MAX_ALPHA_DT / solver.dt_s);
                 }
             }
             previous = Some((solver.u.clone(), net));

@@ -1,0 +1,550 @@
+//! Node-to-segment penalty contact with Coulomb friction (PAPER.md, "Numerical method"), as an
+//! auxiliary force of the explicit engine.
+//!
+//! Each step, for each slave node (wheel tread):
+//! 1. candidate master faces (rail top quads) come from a bucket grid over the faces' bounding
+//!    boxes, rebuilt only when some node has moved more than half the search margin since the
+//!    last build;
+//! 2. the node is projected on each candidate (closest point on the bilinear face); the face
+//!    with the projection inside it and the deepest penetration `g = (x_s - x_p) . n < 0` wins;
+//! 3. normal force `f_N = -k g` along the face normal, with the penalty stiffness
+//!    `k = s K A^2 / V` of the master face (LS-DYNA's solid-segment formula: `s` the scale factor
+//!    of the scenario, `K` the bulk modulus, `A` the face area, `V` the volume of the element
+//!    owning it);
+//! 4. friction: trial force `f* = f_T(t) - k de` from the tangential movement `de` of the node
+//!    relative to the master surface during the step, traction bound `mu |f_N|`, and return to
+//!    the bound when exceeded; `mu` constant or falling, `mu(v) = mu_d + (mu_s - mu_d) exp(-c |v|)`
+//!    with `v = |de| / dt`, evaluated per node per step;
+//! 5. the reaction goes to the face's four nodes with the bilinear weights of the projection.
+//!
+//! The engine's time step must stay below `min sqrt(m / k)` over the slaves; [`ContactPair::time_step_bound_s`]
+//! gives it and the scenario registers it with the engine.
+
+// Index loops mirror the vector notation of the equations; `!(x > 0.0)` also rejects NaN.
+#![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod patch;
+
+use serde::{Deserialize, Serialize};
+
+use crate::explicit::AuxForces;
+use crate::mesh::tie::project_on_face;
+use crate::mesh::{Mesh, P3};
+use crate::{Error, Result};
+
+/// Friction law.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "law", rename_all = "snake_case")]
+pub enum FrictionLaw {
+    /// Constant coefficient.
+    Coulomb {
+        /// Friction coefficient.
+        mu: f64,
+    },
+    /// Velocity-dependent (falling) friction `mu_d + (mu_s - mu_d) exp(-c |v|)`.
+    Falling {
+        /// Static coefficient.
+        mu_static: f64,
+        /// Dynamic coefficient.
+        mu_dynamic: f64,
+        /// Decay `c` (s/m).
+        decay_s_per_m: f64,
+    },
+}
+
+impl FrictionLaw {
+    /// Coefficient at slip speed `v` (m/s).
+    #[inline]
+    pub fn mu(&self, slip_speed_m_per_s: f64) -> f64 {
+        match *self {
+            FrictionLaw::Coulomb { mu } => mu,
+            FrictionLaw::Falling {
+                mu_static,
+                mu_dynamic,
+                decay_s_per_m,
+            } => {
+                mu_dynamic
+                    + (mu_static - mu_dynamic) * (-decay_s_per_m * slip_speed_m_per_s.abs()).exp()
+            }
+        }
+    }
+
+    /// Range checks: coefficients in [0, 2], `mu_d <= mu_s`, `c >= 0`.
+    pub fn validate(&self, source_name: &str, field: &str) -> Result<()> {
+        let check = |name: &str, v: f64| -> Result<()> {
+            if !(0.0..=2.0).contains(&v) {
+                return Err(Error::input(
+                    source_name,
+                    format!("{field}.{name}"),
+                    format!("must lie in [0, 2] (got {v})"),
+                ));
+            }
+            Ok(())
+        };
+        match *self {
+            FrictionLaw::Coulomb { mu } => check("mu", mu),
+            FrictionLaw::Falling {
+                mu_static,
+                mu_dynamic,
+                decay_s_per_m,
+            } => {
+                check("mu_static", mu_static)?;
+                check("mu_dynamic", mu_dynamic)?;
+                if mu_dynamic > mu_static {
+                    return Err(Error::input(
+                        source_name,
+                        format!("{field}.mu_dynamic"),
+                        format!("must not exceed mu_static ({mu_dynamic} > {mu_static})"),
+                    ));
+                }
+                if !(decay_s_per_m >= 0.0 && decay_s_per_m.is_finite()) {
+                    return Err(Error::input(
+                        source_name,
+                        format!("{field}.decay_s_per_m"),
+                        format!("must be >= 0 (got {decay_s_per_m})"),
+                    ));
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// Per-slave contact state (what the patch output reads).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SlaveState {
+    /// In contact in the last step.
+    pub active: bool,
+    /// Normal force magnitude (N).
+    pub normal_force_n: f64,
+    /// Tangential force on the slave (N).
+    pub tangential_force_n: P3,
+    /// Unit normal of the master face (pointing out of the master, towards the slave).
+    pub normal: P3,
+    /// Slip velocity `de / dt` (m/s) of the last step, tangential.
+    pub slip_velocity_m_per_s: P3,
+    /// Friction coefficient used.
+    pub mu: f64,
+    /// Whether the tangential force was at the traction bound (slip).
+    pub at_bound: bool,
+    /// Penetration depth (m, >= 0).
+    pub penetration_m: f64,
+    /// Master face index and projection weights.
+    pub face: u32,
+    /// Bilinear weights of the projection on the face.
+    pub weights: [f64; 4],
+}
+
+/// A slave node set against a master surface.
+pub struct ContactPair {
+    /// Name.
+    pub name: String,
+    /// Slave nodes.
+    pub slaves: Vec<usize>,
+    /// Tributary area per slave (m^2), for pressures.
+    pub slave_area_m2: Vec<f64>,
+    /// Master faces (outward node order: the normal points out of the master body).
+    pub faces: Vec<[usize; 4]>,
+    /// Penalty stiffness per face (N/m).
+    pub face_stiffness_n_per_m: Vec<f64>,
+    /// Friction law.
+    pub friction: FrictionLaw,
+    /// Per-slave state.
+    pub state: Vec<SlaveState>,
+    reference: Vec<P3>,
+    search_margin_m: f64,
+    grid: BucketGrid,
+    positions_at_build: Vec<P3>,
+    forces: Vec<(P3, [f64; 4], u32)>,
+}
+
+/// Uniform bucket grid over face bounding boxes.
+#[derive(Default)]
+struct BucketGrid {
+    origin: P3,
+    cell_m: f64,
+    dims: [usize; 3],
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl BucketGrid {
+    fn cell_of(&self, x: P3) -> Option<[usize; 3]> {
+        let mut c = [0usize; 3];
+        for d in 0..3 {
+            let f = ((x[d] - self.origin[d]) / self.cell_m).floor();
+            if !(f >= 0.0) || f as usize >= self.dims[d] {
+                return None;
+            }
+            c[d] = f as usize;
+        }
+        Some(c)
+    }
+    fn candidates(&self, x: P3) -> &[u32] {
+        match self.cell_of(x) {
+            Some(c) => {
+                let k = c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2]);
+                &self.items[self.start[k] as usize..self.start[k + 1] as usize]
+            }
+            None => &[],
+        }
+    }
+}
+
+fn sub(a: P3, b: P3) -> P3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: P3, b: P3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+impl ContactPair {
+    /// Sets up a pair on `mesh`: slave nodes, master faces (outward order), the penalty scale
+    /// factor, the bulk modulus of the master (Pa) and the friction law. The element owning each
+    /// master face gives its volume for the penalty stiffness.
+    pub fn new(
+        name: &str,
+        mesh: &Mesh,
+        slaves: Vec<usize>,
+        faces: Vec<[usize; 4]>,
+        penalty_scale: f64,
+        bulk_modulus_pa: f64,
+        friction: FrictionLaw,
+    ) -> Result<ContactPair> {
+        friction.validate("scenario", "contact.friction")?;
+        if !(penalty_scale > 0.0 && penalty_scale <= 100.0) {
+            return Err(Error::input(
+                "scenario",
+                "contact.penalty_scale",
+                format!("must lie in (0, 100] (got {penalty_scale})"),
+            ));
+        }
+        if slaves.is_empty() || faces.is_empty() {
+            return Err(Error::input(
+                "scenario",
+                name,
+                "contact needs slave nodes and master faces",
+            ));
+        }
+        // Owner volume of each face.
+        let owners: std::collections::HashMap<[usize; 4], usize> = mesh
+            .boundary_faces()
+            .into_iter()
+            .map(|(f, e)| {
+                let mut key = f;
+                key.sort_unstable();
+                (key, e)
+            })
+            .collect();
+        let mut stiffness = Vec::with_capacity(faces.len());
+        for (k, f) in faces.iter().enumerate() {
+            let mut key = *f;
+            key.sort_unstable();
+            let e = *owners.get(&key).ok_or_else(|| {
+                Error::input(
+                    "scenario",
+                    name,
+                    format!("master face {k} ({f:?}) is not on the boundary of the mesh"),
+                )
+            })?;
+            let x = mesh.element_coords(e);
+            let volume = crate::mesh::hex::volume(&x);
+            let p = f.map(|n| mesh.nodes[n]);
+            let area = crate::mesh::hex::face_area(p[0], p[1], p[2], p[3]);
+            stiffness.push(penalty_scale * bulk_modulus_pa * area * area / volume);
+        }
+        // Tributary areas of the slaves: a quarter of each boundary face around them.
+        let slave_index: std::collections::HashMap<usize, usize> =
+            slaves.iter().enumerate().map(|(i, &n)| (n, i)).collect();
+        let mut slave_area = vec![0.0; slaves.len()];
+        for (f, _) in mesh.boundary_faces() {
+            if f.iter().all(|n| slave_index.contains_key(n)) {
+                let p = f.map(|n| mesh.nodes[n]);
+                let a = crate::mesh::hex::face_area(p[0], p[1], p[2], p[3]);
+                for n in f {
+                    slave_area[slave_index[&n]] += 0.25 * a;
+                }
+            }
+        }
+        let face_size = faces
+            .iter()
+            .map(|f| {
+                let p = f.map(|n| mesh.nodes[n]);
+                crate::mesh::hex::face_area(p[0], p[1], p[2], p[3]).sqrt()
+            })
+            .fold(0.0, f64::max);
+        let n_slaves = slaves.len();
+        let mut pair = ContactPair {
+            name: name.to_string(),
+            slaves,
+            slave_area_m2: slave_area,
+            faces,
+            face_stiffness_n_per_m: stiffness,
+            friction,
+            state: vec![SlaveState::default(); n_slaves],
+            reference: mesh.nodes.clone(),
+            search_margin_m: face_size,
+            grid: BucketGrid::default(),
+            positions_at_build: Vec::new(),
+            forces: vec![([0.0; 3], [0.0; 4], u32::MAX); n_slaves],
+        };
+        let zero = vec![[0.0; 3]; mesh.nodes.len()];
+        pair.build_grid(&zero);
+        Ok(pair)
+    }
+
+    /// The stable-step bound `min sqrt(m_s / k)` over slaves (with the stiffest face), given the
+    /// engine's effective nodal masses.
+    pub fn time_step_bound_s(&self, mass_kg: &[f64]) -> f64 {
+        let k_max = self
+            .face_stiffness_n_per_m
+            .iter()
+            .fold(0.0f64, |m, &k| m.max(k));
+        let m_min = self
+            .slaves
+            .iter()
+            .map(|&n| mass_kg[n])
+            .fold(f64::INFINITY, f64::min);
+        (m_min / k_max).sqrt()
+    }
+
+    fn build_grid(&mut self, u: &[P3]) {
+        let pos = |n: usize| -> P3 { [0, 1, 2].map(|i| self.reference[n][i] + u[n][i]) };
+        let margin = self.search_margin_m;
+        let boxes: Vec<(P3, P3)> = self
+            .faces
+            .iter()
+            .map(|f| {
+                let mut lo = [f64::INFINITY; 3];
+                let mut hi = [f64::NEG_INFINITY; 3];
+                for &n in f {
+                    let p = pos(n);
+                    for d in 0..3 {
+                        lo[d] = lo[d].min(p[d] - margin);
+                        hi[d] = hi[d].max(p[d] + margin);
+                    }
+                }
+                (lo, hi)
+            })
+            .collect();
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for (a, b) in &boxes {
+            for d in 0..3 {
+                lo[d] = lo[d].min(a[d]);
+                hi[d] = hi[d].max(b[d]);
+            }
+        }
+        let cell = 2.0 * margin.max(1e-6);
+        let dims = [0, 1, 2].map(|d| (((hi[d] - lo[d]) / cell).ceil() as usize).clamp(1, 4096));
+        let n_cells = dims[0] * dims[1] * dims[2];
+        let cell_range = |a: f64, b: f64, d: usize| -> (usize, usize) {
+            let i0 = (((a - lo[d]) / cell).floor().max(0.0) as usize).min(dims[d] - 1);
+            let i1 = (((b - lo[d]) / cell).floor().max(0.0) as usize).min(dims[d] - 1);
+            (i0, i1)
+        };
+        let mut counts = vec![0u32; n_cells + 1];
+        let mut pairs: Vec<(usize, u32)> = Vec::new();
+        for (k, (a, b)) in boxes.iter().enumerate() {
+            let (x0, x1) = cell_range(a[0], b[0], 0);
+            let (y0, y1) = cell_range(a[1], b[1], 1);
+            let (z0, z1) = cell_range(a[2], b[2], 2);
+            for z in z0..=z1 {
+                for y in y0..=y1 {
+                    for x in x0..=x1 {
+                        let c = x + dims[0] * (y + dims[1] * z);
+                        counts[c + 1] += 1;
+                        pairs.push((c, k as u32));
+                    }
+                }
+            }
+        }
+        for c in 0..n_cells {
+            counts[c + 1] += counts[c];
+        }
+        let mut fill = counts.clone();
+        let mut items = vec![0u32; pairs.len()];
+        for (c, k) in pairs {
+            items[fill[c] as usize] = k;
+            fill[c] += 1;
+        }
+        self.grid = BucketGrid {
+            origin: lo,
+            cell_m: cell,
+            dims,
+            start: counts,
+            items,
+        };
+        self.positions_at_build = (0..self.reference.len()).map(pos).collect();
+    }
+
+    fn needs_rebuild(&self, u: &[P3]) -> bool {
+        let limit = 0.5 * self.search_margin_m;
+        let limit2 = limit * limit;
+        self.faces
+            .iter()
+            .flatten()
+            .chain(self.slaves.iter())
+            .any(|&n| {
+                let x = [0, 1, 2].map(|i| self.reference[n][i] + u[n][i]);
+                let d = sub(x, self.positions_at_build[n]);
+                dot(d, d) > limit2
+            })
+    }
+
+    /// Sum of the contact forces on the slaves (N) and the traction bound `sum mu |f_N|`.
+    pub fn resultants(&self) -> (P3, P3, f64) {
+        let mut normal = [0.0; 3];
+        let mut tangential = [0.0; 3];
+        let mut bound = 0.0;
+        for s in &self.state {
+            if s.active {
+                for d in 0..3 {
+                    normal[d] += s.normal_force_n * s.normal[d];
+                    tangential[d] += s.tangential_force_n[d];
+                }
+                bound += s.mu * s.normal_force_n;
+            }
+        }
+        (normal, tangential, bound)
+    }
+}
+
+impl AuxForces for ContactPair {
+    fn add_forces(&mut self, _time_s: f64, dt_s: f64, u: &[P3], v: &[P3], force: &mut [P3]) {
+        if self.needs_rebuild(u) {
+            // Rare (when nodes moved half a face): allocation here is outside the steady loop.
+            self.build_grid(u);
+        }
+        let reference = &self.reference;
+        let pos = |n: usize| -> P3 { [0, 1, 2].map(|i| reference[n][i] + u[n][i]) };
+        for (k, &s) in self.slaves.iter().enumerate() {
+            let xs = pos(s);
+            let mut best: Option<(f64, u32, [f64; 4], P3)> = None;
+            for &fi in self.grid.candidates(xs) {
+                let f = self.faces[fi as usize];
+                let p = f.map(pos);
+                let (xi, eta, w, _) = project_on_face(&p, xs);
+                if xi.abs() >= 1.0 || eta.abs() >= 1.0 {
+                    // Projection on the edge: the node is beside this face, not over it.
+                    if xi.abs() > 1.0 + 1e-9 || eta.abs() > 1.0 + 1e-9 {
+                        continue;
+                    }
+                }
+                let n = crate::mesh::hex::face_normal(p[0], p[1], p[2], p[3]);
+                let len = dot(n, n).sqrt();
+                let n = [n[0] / len, n[1] / len, n[2] / len];
+                let xp = [0, 1, 2]
+                    .map(|d| w[0] * p[0][d] + w[1] * p[1][d] + w[2] * p[2][d] + w[3] * p[3][d]);
+                let gap = dot(sub(xs, xp), n);
+                // Penetrations deeper than a face size are the far side of a thin part.
+                if gap < 0.0 && gap > -self.search_margin_m && best.is_none_or(|b| gap < b.0) {
+                    best = Some((gap, fi, w, n));
+                }
+            }
+            let st = &mut self.state[k];
+            let Some((gap, fi, w, n)) = best else {
+                *st = SlaveState {
+                    mu: st.mu,
+                    ..Default::default()
+                };
+                self.forces[k] = ([0.0; 3], [0.0; 4], u32::MAX);
+                continue;
+            };
+            let kf = self.face_stiffness_n_per_m[fi as usize];
+            let f_n = -kf * gap;
+            // Tangential movement of the slave relative to the master point in the last step.
+            let f = self.faces[fi as usize];
+            let vm = [0, 1, 2].map(|d| {
+                w[0] * v[f[0]][d] + w[1] * v[f[1]][d] + w[2] * v[f[2]][d] + w[3] * v[f[3]][d]
+            });
+            let vr = sub(v[s], vm);
+            let vn = dot(vr, n);
+            let vt = [vr[0] - vn * n[0], vr[1] - vn * n[1], vr[2] - vn * n[2]];
+            let de = vt.map(|c| c * dt_s);
+            let slip_speed = dot(vt, vt).sqrt();
+            let mu = self.friction.mu(slip_speed);
+            // Previous tangential force, rotated into the current tangent plane (magnitude kept).
+            let ft_old = if st.active {
+                st.tangential_force_n
+            } else {
+                [0.0; 3]
+            };
+            let on = dot(ft_old, n);
+            let mut ft = [
+                ft_old[0] - on * n[0],
+                ft_old[1] - on * n[1],
+                ft_old[2] - on * n[2],
+            ];
+            let old_mag = dot(ft_old, ft_old).sqrt();
+            let new_mag = dot(ft, ft).sqrt();
+            if new_mag > 0.0 {
+                ft = ft.map(|c| c * old_mag / new_mag);
+            }
+            // Trial force f* = f_T - k de; return to the bound mu |f_N| when exceeded.
+            let trial = [ft[0] - kf * de[0], ft[1] - kf * de[1], ft[2] - kf * de[2]];
+            let trial_mag = dot(trial, trial).sqrt();
+            let bound = mu * f_n;
+            let (ft_new, at_bound) = if trial_mag > bound {
+                let s = bound / trial_mag;
+                (trial.map(|c| c * s), true)
+            } else {
+                (trial, false)
+            };
+            *st = SlaveState {
+                active: true,
+                normal_force_n: f_n,
+                tangential_force_n: ft_new,
+                normal: n,
+                slip_velocity_m_per_s: vt,
+                mu,
+                at_bound,
+                penetration_m: -gap,
+                face: fi,
+                weights: w,
+            };
+            let total = [0, 1, 2].map(|d| f_n * n[d] + ft_new[d]);
+            self.forces[k] = (total, w, fi);
+        }
+        // Scatter (serial: slaves share master nodes).
+        for (k, &s) in self.slaves.iter().enumerate() {
+            let (f, w, fi) = self.forces[k];
+            if fi == u32::MAX {
+                continue;
+            }
+            for d in 0..3 {
+                force[s][d] += f[d];
+            }
+            let face = self.faces[fi as usize];
+            for (j, &m) in face.iter().enumerate() {
+                for d in 0..3 {
+                    force[m][d] -= w[j] * f[d];
+                }
+            }
+        }
+    }
+
+    fn checkpoint_state(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(self.state.len() * 4);
+        for s in &self.state {
+            out.push(if s.active { 1.0 } else { 0.0 });
+            out.extend_from_slice(&s.tangential_force_n);
+        }
+        out
+    }
+
+    fn restore_state(&mut self, state: &[f64]) -> Result<()> {
+        if state.len() != 4 * self.state.len() {
+            return Err(Error::input(
+                "checkpoint",
+                "contact",
+                "checkpoint holds another contact pair",
+            ));
+        }
+        for (s, chunk) in self.state.iter_mut().zip(state.chunks(4)) {
+            s.active = chunk[0] > 0.5;
+            s.tangential_force_n = [chunk[1], chunk[2], chunk[3]];
+        }
+        Ok(())
+    }
+}

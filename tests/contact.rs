@@ -1,0 +1,302 @@
+//! Penalty contact with friction against independent references: a block sliding on a fixed
+//! plate decelerates at mu g with a friction force mu N (Coulomb), follows mu(v) with falling
+//! friction, never exceeds the traction bound, and a pressed block carries its load.
+use std::collections::BTreeMap;
+
+use squeal::contact::{ContactPair, FrictionLaw};
+use squeal::explicit::element::{ElasticMaterial, Formulation};
+use squeal::explicit::model::Model;
+use squeal::explicit::preload::{relax, PreloadOptions};
+use squeal::explicit::{AuxForces, Curve, Solver};
+use squeal::mesh::{cuboid, Mesh, P3};
+
+const STEEL: ElasticMaterial = ElasticMaterial {
+    density_kg_per_m3: 7850.0,
+    youngs_modulus_pa: 210e9,
+    poisson_ratio: 0.3,
+};
+const G: f64 = 9.81;
+
+fn bulk_modulus() -> f64 {
+    STEEL.youngs_modulus_pa / (3.0 * (1.0 - 2.0 * STEEL.poisson_ratio))
+}
+
+/// A 0.6 m x 0.2 m x 20 mm plate (fixed) and a 50 x 50 x 20 mm block resting on it at x = 0.1 m.
+fn block_on_plate() -> (Mesh, Vec<usize>, Vec<[usize; 4]>, usize) {
+    let plate = cuboid([30, 10, 1], [0.6, 0.2, 0.02], 1);
+    let mut block = cuboid([2, 2, 1], [0.05, 0.05, 0.02], 2);
+    for p in &mut block.nodes {
+        p[0] += 0.1;
+        p[1] += 0.075;
+        p[2] += 0.02;
+    }
+    let mut mesh = plate;
+    let offset = mesh.nodes.len();
+    let block_bottom: Vec<usize> = block.node_sets["z0"].iter().map(|n| n + offset).collect();
+    let block_all: Vec<usize> = (offset..offset + block.nodes.len()).collect();
+    mesh.append(block);
+    mesh.node_sets.insert("block".into(), block_all);
+    mesh.node_sets.insert("plate".into(), (0..offset).collect());
+    let top: Vec<usize> = mesh.node_sets["z1"]
+        .iter()
+        .copied()
+        .filter(|&n| n < offset)
+        .collect();
+    let faces: Vec<[usize; 4]> = mesh
+        .boundary_faces()
+        .into_iter()
+        .map(|(f, _)| f)
+        .filter(|f| f.iter().all(|n| top.contains(n)))
+        .collect();
+    (mesh, block_bottom, faces, offset)
+}
+
+struct Setup {
+    solver: Solver,
+    pair: ContactPair,
+    block: Vec<usize>,
+    mass_kg: f64,
+}
+
+fn setup(friction: FrictionLaw, load_n: f64) -> Setup {
+    let (mesh, slaves, faces, _) = block_on_plate();
+    let pair = ContactPair::new(
+        "block_on_plate",
+        &mesh,
+        slaves,
+        faces,
+        0.1,
+        bulk_modulus(),
+        friction,
+    )
+    .unwrap();
+    let materials: BTreeMap<u32, ElasticMaterial> = [(1, STEEL), (2, STEEL)].into_iter().collect();
+    let mut model = Model::from_mesh(mesh, &materials, Formulation::default(), "test").unwrap();
+    model.gravity_m_per_s2 = [0.0, 0.0, -G];
+    model.fix_set("plate", [true, true, true]).unwrap();
+    if load_n > 0.0 {
+        model
+            .add_load("z1", [0.0, 0.0, 0.0], Curve::constant(0.0))
+            .unwrap();
+        let top_block: Vec<usize> = model
+            .node_set("z1")
+            .unwrap()
+            .into_iter()
+            .filter(|n| model.node_set("block").unwrap().contains(n))
+            .collect();
+        model.mesh.node_sets.insert("block_top".into(), top_block);
+        model
+            .add_load("block_top", [0.0, 0.0, -load_n], Curve::constant(1.0))
+            .unwrap();
+    }
+    let block = model.node_set("block").unwrap();
+    let mass_kg: f64 = block.iter().map(|&n| model.nodal_mass_kg[n]).sum();
+    let bound = pair.time_step_bound_s(&model.nodal_mass_kg);
+    model.register_time_step_bound("contact", bound);
+    let solver = Solver::new(model, None).unwrap();
+    Setup {
+        solver,
+        pair,
+        block,
+        mass_kg,
+    }
+}
+
+fn block_velocity_x(s: &Solver, block: &[usize]) -> f64 {
+    block.iter().map(|&n| s.v[n][0]).sum::<f64>() / block.len() as f64
+}
+
+/// Coulomb, mu = 0.3: after settling, a push to 1 m/s; the block decelerates at mu g and the
+/// friction force is mu N; the tangential force never exceeds mu |f_N| at any node and step.
+#[test]
+fn sliding_block_decelerates_at_mu_g() {
+    let mu = 0.3;
+    let mut st = setup(FrictionLaw::Coulomb { mu }, 0.0);
+    relax(&mut st.solver, &mut st.pair, contact_preload()).unwrap();
+    let weight = st.mass_kg * G;
+    let (normal, _, _) = st.pair.resultants();
+    // Static: the contact carries the weight within 1 %.
+    assert!(
+        (normal[2] / weight - 1.0).abs() < 0.01,
+        "normal {} vs weight {weight}",
+        normal[2]
+    );
+    for &n in &st.block {
+        st.solver.v[n][0] = 1.0;
+    }
+    let v0 = block_velocity_x(&st.solver, &st.block);
+    let t_end = 0.1;
+    let t0 = st.solver.time_s;
+    // Time integrals of the friction and normal forces: the block chatters on its stiff
+    // penalty springs (steps with no node in contact), so the ratio of the integrals is the
+    // measured mean friction coefficient.
+    let (mut friction_impulse, mut normal_impulse) = (0.0, 0.0);
+    while st.solver.time_s - t0 < t_end {
+        st.solver.step_with(&mut st.pair, false, false).unwrap();
+        for s in &st.pair.state {
+            if s.active {
+                let ft = s
+                    .tangential_force_n
+                    .iter()
+                    .map(|c| c * c)
+                    .sum::<f64>()
+                    .sqrt();
+                assert!(
+                    ft <= s.mu * s.normal_force_n * (1.0 + 1e-12),
+                    "tangential force above the bound"
+                );
+            }
+        }
+        let (n, t, _) = st.pair.resultants();
+        if st.solver.time_s - t0 > 0.01 {
+            friction_impulse += -t[0];
+            normal_impulse += n[2];
+        }
+    }
+    let v1 = block_velocity_x(&st.solver, &st.block);
+    let decel = (v0 - v1) / (st.solver.time_s - t0);
+    // 2 %: the block rocks slightly on its penalty springs while it slides.
+    assert!(
+        (decel / (mu * G) - 1.0).abs() < 0.02,
+        "deceleration {decel} vs mu g {}",
+        mu * G
+    );
+    let mean_ratio = friction_impulse / normal_impulse;
+    assert!(
+        (mean_ratio / mu - 1.0).abs() < 0.01,
+        "friction force / normal force {mean_ratio}"
+    );
+}
+
+/// Falling friction (mu_s 0.5, mu_d 0.32, c 6 s/m): while the block slows down from 1 m/s the
+/// measured force ratio follows mu(v) at the block's slip speed.
+#[test]
+fn falling_friction_follows_mu_of_v() {
+    let law = FrictionLaw::Falling {
+        mu_static: 0.5,
+        mu_dynamic: 0.32,
+        decay_s_per_m: 6.0,
+    };
+    let mut st = setup(law, 0.0);
+    relax(&mut st.solver, &mut st.pair, contact_preload()).unwrap();
+    for &n in &st.block {
+        st.solver.v[n][0] = 1.0;
+    }
+    let t0 = st.solver.time_s;
+    let mut checked = 0;
+    let mut k = 0u64;
+    while st.solver.time_s - t0 < 0.15 {
+        st.solver.step_with(&mut st.pair, false, false).unwrap();
+        k += 1;
+        let (n, t, _) = st.pair.resultants();
+        if st.solver.time_s - t0 > 0.01 && k.is_multiple_of(500) && n[2] > 0.0 {
+            let v = block_velocity_x(&st.solver, &st.block);
+            let expected = law.mu(v);
+            let measured = -t[0] / n[2];
+            // 2 %: node slip speeds differ slightly from the block's mean velocity as it rocks.
+            assert!(
+                (measured / expected - 1.0).abs() < 0.02,
+                "v {v}: {measured} vs mu(v) {expected}"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 5);
+    // The law itself: mu(0) = mu_s, mu(inf) = mu_d.
+    assert!((law.mu(0.0) - 0.5).abs() < 1e-15 && (law.mu(1e3) - 0.32).abs() < 1e-12);
+}
+
+/// A block pressed with 2 kN: after preload the contact's normal force equals load + weight
+/// within 1 %.
+#[test]
+fn pressed_block_carries_its_load() {
+    let load = 2000.0;
+    let mut st = setup(FrictionLaw::Coulomb { mu: 0.3 }, load);
+    relax(&mut st.solver, &mut st.pair, contact_preload()).unwrap();
+    let (normal, _, _) = st.pair.resultants();
+    let expected = load + st.mass_kg * G;
+    assert!(
+        (normal[2] / expected - 1.0).abs() < 0.01,
+        "{} vs {expected}",
+        normal[2]
+    );
+    // Penetration stays a small fraction of the element size (25 mm): below 1 %.
+    let deepest = st
+        .pair
+        .state
+        .iter()
+        .map(|s| s.penetration_m)
+        .fold(0.0, f64::max);
+    assert!(deepest < 0.01 * 0.025, "penetration {deepest} m");
+    // Snapshot files.
+    let dir = std::env::temp_dir().join(format!("squeal_patch_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let reference: Vec<P3> = st.solver.model.mesh.nodes.clone();
+    let json =
+        squeal::contact::patch::write_snapshot(&st.pair, &reference, &st.solver.u, 0.0, 0.01, &dir)
+            .unwrap();
+    let snap: squeal::kalker::snapshot::PatchSnapshot = squeal::input::read_json(&json).unwrap();
+    assert_eq!(snap.points.len(), 9);
+    assert!((snap.normal_force_n / expected - 1.0).abs() < 0.01);
+    let _ = std::fs::remove_dir_all(&dir);
+    // Checkpoint state round trip.
+    let saved = st.pair.checkpoint_state();
+    st.pair.restore_state(&saved).unwrap();
+    assert!(st.pair.restore_state(&saved[1..]).is_err());
+}
+
+#[test]
+fn bad_friction_and_penalty_are_rejected_with_the_field() {
+    let (mesh, slaves, faces, _) = block_on_plate();
+    let bad = FrictionLaw::Falling {
+        mu_static: 0.3,
+        mu_dynamic: 0.5,
+        decay_s_per_m: 6.0,
+    };
+    let e = ContactPair::new(
+        "c",
+        &mesh,
+        slaves.clone(),
+        faces.clone(),
+        0.1,
+        bulk_modulus(),
+        bad,
+    )
+    .err()
+    .unwrap();
+    assert!(e.to_string().contains("contact.friction.mu_dynamic"), "{e}");
+    assert_eq!(e.exit_code(), 2);
+    let e = ContactPair::new(
+        "c",
+        &mesh,
+        slaves.clone(),
+        faces.clone(),
+        0.1,
+        bulk_modulus(),
+        FrictionLaw::Coulomb { mu: 2.5 },
+    )
+    .err()
+    .unwrap();
+    assert!(e.to_string().contains("contact.friction.mu"), "{e}");
+    let e = ContactPair::new(
+        "c",
+        &mesh,
+        slaves,
+        faces,
+        -1.0,
+        bulk_modulus(),
+        FrictionLaw::Coulomb { mu: 0.3 },
+    )
+    .err()
+    .unwrap();
+    assert!(e.to_string().contains("penalty_scale"), "{e}");
+}
+
+/// Preload with a fixed damping near critical for the block bouncing on its contact (the
+/// adaptive estimate is dominated by the penalty springs; see `PreloadOptions`).
+fn contact_preload() -> PreloadOptions {
+    PreloadOptions {
+        fixed_damping_per_s: Some(2000.0),
+        ..Default::default()
+    }
+}
