@@ -15,6 +15,7 @@ pub mod input;
 pub mod kalker;
 pub mod mesh;
 pub mod report;
+pub mod rolling;
 pub mod scenario;
 pub mod signal;
 pub use error::{Error, Result};

@@ -8,3 +8,4 @@ pub mod mesh;
 pub mod profile;
 pub mod report;
 pub mod signal;
+pub mod simulate;

@@ -381,15 +381,13 @@ impl ContactPair {
     fn needs_rebuild(&self, u: &[P3]) -> bool {
         let limit = 0.5 * self.search_margin_m;
         let limit2 = limit * limit;
-        self.faces
-            .iter()
-            .flatten()
-            .chain(self.slaves.iter())
-            .any(|&n| {
-                let x = [0, 1, 2].map(|i| self.reference[n][i] + u[n][i]);
-                let d = sub(x, self.positions_at_build[n]);
-                dot(d, d) > limit2
-            })
+        // Only the master faces are binned; slaves look up the cell of their current position,
+        // so a rolling wheel's slaves never force a rebuild.
+        self.faces.iter().flatten().any(|&n| {
+            let x = [0, 1, 2].map(|i| self.reference[n][i] + u[n][i]);
+            let d = sub(x, self.positions_at_build[n]);
+            dot(d, d) > limit2
+        })
     }
 
     /// Sum of the contact forces on the slaves (N) and the traction bound `sum mu |f_N|`.
@@ -424,18 +422,21 @@ impl AuxForces for ContactPair {
             for &fi in self.grid.candidates(xs) {
                 let f = self.faces[fi as usize];
                 let p = f.map(pos);
-                let (xi, eta, w, _) = project_on_face(&p, xs);
-                if xi.abs() >= 1.0 || eta.abs() >= 1.0 {
-                    // Projection on the edge: the node is beside this face, not over it.
-                    if xi.abs() > 1.0 + 1e-9 || eta.abs() > 1.0 + 1e-9 {
-                        continue;
-                    }
-                }
+                let (_, _, w, _) = project_on_face(&p, xs);
                 let n = crate::mesh::hex::face_normal(p[0], p[1], p[2], p[3]);
                 let len = dot(n, n).sqrt();
                 let n = [n[0] / len, n[1] / len, n[2] / len];
                 let xp = [0, 1, 2]
                     .map(|d| w[0] * p[0][d] + w[1] * p[1][d] + w[2] * p[2][d] + w[3] * p[3][d]);
+                // The projection is clamped to the face: a node beside the face (not over it)
+                // has a tangential offset from its closest point. Accept only nodes over the
+                // face, to 2 % of the face size (the offset of a node just past a shared edge).
+                let d = sub(xs, xp);
+                let dn = dot(d, n);
+                let tangential = [d[0] - dn * n[0], d[1] - dn * n[1], d[2] - dn * n[2]];
+                if dot(tangential, tangential) > 4e-4 * len {
+                    continue;
+                }
                 let gap = dot(sub(xs, xp), n);
                 // Penetrations deeper than a face size are the far side of a thin part.
                 if gap < 0.0 && gap > -self.search_margin_m && best.is_none_or(|b| gap < b.0) {

@@ -194,6 +194,10 @@ pub fn run<A: AuxForces + ?Sized>(
             header.push(',');
             header.push_str(&p.column);
         }
+        for c in aux.history_columns() {
+            header.push(',');
+            header.push_str(&c);
+        }
         writeln!(hist, "{header}").map_err(io(&hist_path))?;
         writeln!(
             energy_csv,
@@ -250,6 +254,7 @@ pub fn run<A: AuxForces + ?Sized>(
                 row.push(',');
                 push_num(&mut row, acc / p.nodes.len() as f64);
             }
+            aux.push_history_values(t_n, &solver.model.mesh.nodes, &solver.output, &mut row)?;
             row.push('\n');
             hist.write_all(row.as_bytes()).map_err(io(&hist_path))?;
             aux.on_sample(t_n, &opts.out_dir)?;
@@ -334,7 +339,7 @@ pub fn run<A: AuxForces + ?Sized>(
     }
 }
 
-fn push_num(s: &mut String, x: f64) {
+pub(crate) fn push_num(s: &mut String, x: f64) {
     use std::fmt::Write as _;
     let _ = write!(s, "{x:.9e}");
 }
@@ -361,7 +366,7 @@ pub fn write_snapshot(solver: &Solver, dir: &Path, time_s: f64) -> Result<PathBu
 }
 
 /// Drops the rows of a CSV whose first column exceeds `time_s` (for resume).
-fn truncate_csv_after(path: &Path, time_s: f64) -> Result<()> {
+pub(crate) fn truncate_csv_after(path: &Path, time_s: f64) -> Result<()> {
     let Ok(f) = File::open(path) else {
         return Ok(());
     };

@@ -56,6 +56,22 @@ pub trait AuxForces {
     fn on_sample(&mut self, _time_s: f64, _out_dir: &std::path::Path) -> Result<()> {
         Ok(())
     }
+    /// Extra columns this module appends to `histories.csv` (e.g. wheel vibration in a
+    /// co-rotating frame).
+    fn history_columns(&self) -> Vec<String> {
+        Vec::new()
+    }
+    /// Appends one `,value` per [`AuxForces::history_columns`] entry for the sample at
+    /// `time_s`, from the output fields at that instant (`reference` = node coordinates).
+    fn push_history_values(
+        &mut self,
+        _time_s: f64,
+        _reference: &[P3],
+        _output: &OutputFields,
+        _row: &mut String,
+    ) -> Result<()> {
+        Ok(())
+    }
     /// State to keep in checkpoints (e.g. tangential contact forces).
     fn checkpoint_state(&self) -> Vec<f64> {
         Vec::new()

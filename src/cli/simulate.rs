@@ -1,0 +1,115 @@
+//! `squeal simulate`: one rolling case, or the five, into run directories.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use squeal::rolling::{load_case, simulate, SimulateOptions};
+use squeal::{Error, Result};
+
+/// The five cases of the paper at the demo resolution (PAPER.md "Simulation cases").
+pub const ALL_CASES: [&str; 5] = [
+    "data/scenarios/case1-demo.json",
+    "data/scenarios/case2-demo.json",
+    "data/scenarios/case3-demo.json",
+    "data/scenarios/case4-demo.json",
+    "data/scenarios/case5-demo.json",
+];
+
+/// Arguments of `squeal simulate`.
+#[derive(Args, Debug)]
+pub struct SimulateArgs {
+    /// Case file, e.g. data/scenarios/case3-demo.json.
+    #[arg(long, required_unless_present = "all_cases")]
+    pub scenario: Option<PathBuf>,
+    /// Run the five demo cases (data/scenarios/case1-demo.json .. case5-demo.json), each into
+    /// OUT/<case name>/.
+    #[arg(long, conflicts_with = "scenario")]
+    pub all_cases: bool,
+    /// Output directory (the run directory; with --all-cases, the parent of one per case).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Resume from the checkpoint in the output directory.
+    #[arg(long)]
+    pub resume: bool,
+    /// Stop at this simulated time instead of the case's end time (ms).
+    #[arg(long)]
+    pub end_time_ms: Option<f64>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Run `squeal simulate`.
+pub fn run(args: SimulateArgs) -> Result<()> {
+    let cases: Vec<(PathBuf, PathBuf)> = if args.all_cases {
+        ALL_CASES
+            .iter()
+            .map(|c| {
+                let p = PathBuf::from(c);
+                let stem = p
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().to_string())
+                    .unwrap_or_default();
+                (p, args.out.join(stem))
+            })
+            .collect()
+    } else {
+        let p = args.scenario.clone().ok_or_else(|| {
+            Error::input(
+                "command line",
+                "--scenario",
+                "give a case file or --all-cases",
+            )
+        })?;
+        vec![(p, args.out.clone())]
+    };
+    for (case_path, out) in cases {
+        if !case_path.exists() {
+            return Err(Error::input(
+                case_path.display().to_string(),
+                "--scenario",
+                "file does not exist",
+            ));
+        }
+        let loaded = load_case(&case_path)?;
+        let opts = SimulateOptions {
+            out_dir: out.clone(),
+            resume: args.resume,
+            progress: !args.quiet,
+            end_time_s: args.end_time_ms.map(|t| t * 1e-3),
+        };
+        println!(
+            "case {} ({}) -> {}",
+            loaded.case.name,
+            case_path.display(),
+            out.display()
+        );
+        let record = simulate(&loaded, &opts)?;
+        println!(
+            "  {} elements, dt {:.1} ns ({}), {} steps in {:.1} s; status {}{}",
+            record.model.elements,
+            record.model.time_step_s * 1e9,
+            record.model.time_step_limited_by,
+            record.run.steps,
+            record.run.wall_s,
+            record.run.status,
+            record
+                .run
+                .diagnosis
+                .as_ref()
+                .map(|d| format!(": {d}"))
+                .unwrap_or_default()
+        );
+        if let Some(mu) = record.measured_traction_coefficient {
+            println!("  measured traction coefficient (last quarter) {mu:.3}");
+        }
+        if record.run.status != "completed" {
+            return Err(Error::Numerical(format!(
+                "case {} stopped: {}",
+                record.case,
+                record.run.diagnosis.unwrap_or_default()
+            )));
+        }
+    }
+    Ok(())
+}

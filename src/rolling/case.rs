@@ -1,0 +1,338 @@
+//! A rolling case file (`data/scenarios/case*.json`): the model scenario it builds on (wheel +
+//! track meshes), the track's discrete parts, the vehicle load, the rolling conditions, the
+//! friction law, and what to write. Every field is validated with its name and allowed range.
+
+// `!(x > 0.0)` is meant: it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::contact::FrictionLaw;
+use crate::input::read_json;
+use crate::scenario::LoadedScenario;
+use crate::{Error, Result};
+
+/// A spring-damper's totals.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringDamper {
+    /// Stiffness (N/m).
+    pub stiffness_n_per_m: f64,
+    /// Viscous damping (N s/m).
+    pub damping_n_s_per_m: f64,
+}
+
+/// Rail pad: vertical stiffness and damping per pad (DATA.md section 3), and the shear
+/// (longitudinal and lateral) stiffness as a fraction of the vertical one.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RailPad {
+    /// Vertical stiffness per pad (N/m).
+    pub stiffness_n_per_m: f64,
+    /// Vertical damping per pad (N s/m).
+    pub damping_n_s_per_m: f64,
+    /// Shear stiffness and damping as a fraction of the vertical values.
+    pub shear_fraction: f64,
+}
+
+/// Isotropic elastic material.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialValues {
+    /// Young's modulus (Pa).
+    pub youngs_modulus_pa: f64,
+    /// Poisson's ratio.
+    pub poisson_ratio: f64,
+    /// Density (kg/m^3).
+    pub density_kg_per_m3: f64,
+}
+
+/// Driving torque on the axle: a ramp from zero to `max_n_m` at `ramp_end_s`, then constant
+/// (PAPER.md "Rolling").
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TorqueSpec {
+    /// Largest torque (N m).
+    pub max_n_m: f64,
+    /// End of the ramp (s).
+    pub ramp_end_s: f64,
+}
+
+/// Prescribed lateral motion of both axle ends: at rest until `start_s`, then a ramp at
+/// constant lateral speed, so that the imposed lateral creepage is about
+/// `velocity_m_per_s / rolling speed`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LateralMotion {
+    /// Start of the motion (s).
+    pub start_s: f64,
+    /// Lateral speed of the axle ends after the start (m/s), towards +y (field side).
+    pub velocity_m_per_s: f64,
+}
+
+/// Static preload by dynamic relaxation.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PreloadSpec {
+    /// Mass-proportional damping during relaxation (1/s): near `2 x 2 pi x` the frequency of the
+    /// wheel bouncing on the track.
+    pub damping_per_s: f64,
+    /// Relative residual to reach.
+    pub tolerance: f64,
+    /// Step limit; when reached the run goes on from the partly relaxed state, and `run.json`
+    /// records the residual.
+    pub max_steps: u64,
+}
+
+/// Output settings.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// History sample rate (Hz).
+    pub sample_rate_hz: f64,
+    /// Times of contact-patch snapshots (s).
+    #[serde(default)]
+    pub patch_times_s: Vec<f64>,
+    /// Times of VTU snapshots (s).
+    #[serde(default)]
+    pub vtu_times_s: Vec<f64>,
+    /// Micro-slip speed above which a node counts as slipping (m/s).
+    pub slip_threshold_m_per_s: f64,
+    /// Checkpoint every this many steps (0 = never).
+    pub checkpoint_every_steps: u64,
+}
+
+/// A rolling case.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RollingCase {
+    /// Name (used for output folders).
+    pub name: String,
+    /// What the case is.
+    pub description: String,
+    /// The model scenario (meshes), relative to this file.
+    pub model_scenario: String,
+    /// Simulated time (s).
+    pub end_time_s: f64,
+    /// Initial rolling speed (km/h).
+    pub speed_km_per_h: f64,
+    /// Sprung mass share of car body and bogie on this wheel (kg).
+    pub sprung_mass_kg: f64,
+    /// Primary suspension (same values vertically, laterally and longitudinally).
+    pub primary_suspension: SpringDamper,
+    /// Rail pad, per sleeper.
+    pub rail_pad: RailPad,
+    /// Ballast, per sleeper, vertical.
+    pub ballast: SpringDamper,
+    /// Sleeper material (concrete).
+    pub sleeper_material: MaterialValues,
+    /// Driving torque.
+    pub torque: TorqueSpec,
+    /// Lateral motion of the axle ends (None: case 1, no lateral motion).
+    pub lateral_motion: Option<LateralMotion>,
+    /// Friction law.
+    pub friction: FrictionLaw,
+    /// Penalty scale factor `s` in `k = s K A^2 / V`.
+    pub penalty_scale: f64,
+    /// Rayleigh mass-proportional damping of the run (1/s).
+    #[serde(default)]
+    pub mass_damping_per_s: f64,
+    /// Static preload.
+    pub preload: PreloadSpec,
+    /// Output.
+    pub output: OutputSpec,
+}
+
+/// A case with its model scenario loaded.
+pub struct LoadedCase {
+    /// The case.
+    pub case: RollingCase,
+    /// Its model scenario.
+    pub scenario: LoadedScenario,
+    /// Where the case came from.
+    pub source: PathBuf,
+}
+
+fn positive(source: &str, field: &str, x: f64) -> Result<()> {
+    if !(x > 0.0 && x.is_finite()) {
+        return Err(Error::input(
+            source,
+            field,
+            format!("must be > 0 (got {x})"),
+        ));
+    }
+    Ok(())
+}
+
+fn non_negative(source: &str, field: &str, x: f64) -> Result<()> {
+    if !(x >= 0.0 && x.is_finite()) {
+        return Err(Error::input(
+            source,
+            field,
+            format!("must be >= 0 (got {x})"),
+        ));
+    }
+    Ok(())
+}
+
+impl RollingCase {
+    /// Checks every field; errors name the file and the field with the allowed range.
+    pub fn validate(&self, source: &str) -> Result<()> {
+        if !(self.end_time_s > 0.0 && self.end_time_s <= 1.0) {
+            return Err(Error::input(
+                source,
+                "end_time_s",
+                format!("must lie in (0, 1] s (got {})", self.end_time_s),
+            ));
+        }
+        if !(self.speed_km_per_h >= 0.0 && self.speed_km_per_h <= 500.0) {
+            return Err(Error::input(
+                source,
+                "speed_km_per_h",
+                format!("must lie in [0, 500] (got {})", self.speed_km_per_h),
+            ));
+        }
+        positive(source, "sprung_mass_kg", self.sprung_mass_kg)?;
+        positive(
+            source,
+            "primary_suspension.stiffness_n_per_m",
+            self.primary_suspension.stiffness_n_per_m,
+        )?;
+        non_negative(
+            source,
+            "primary_suspension.damping_n_s_per_m",
+            self.primary_suspension.damping_n_s_per_m,
+        )?;
+        positive(
+            source,
+            "rail_pad.stiffness_n_per_m",
+            self.rail_pad.stiffness_n_per_m,
+        )?;
+        non_negative(
+            source,
+            "rail_pad.damping_n_s_per_m",
+            self.rail_pad.damping_n_s_per_m,
+        )?;
+        if !(self.rail_pad.shear_fraction >= 0.0 && self.rail_pad.shear_fraction <= 1.0) {
+            return Err(Error::input(
+                source,
+                "rail_pad.shear_fraction",
+                format!("must lie in [0, 1] (got {})", self.rail_pad.shear_fraction),
+            ));
+        }
+        positive(
+            source,
+            "ballast.stiffness_n_per_m",
+            self.ballast.stiffness_n_per_m,
+        )?;
+        non_negative(
+            source,
+            "ballast.damping_n_s_per_m",
+            self.ballast.damping_n_s_per_m,
+        )?;
+        let m = &self.sleeper_material;
+        positive(
+            source,
+            "sleeper_material.youngs_modulus_pa",
+            m.youngs_modulus_pa,
+        )?;
+        positive(
+            source,
+            "sleeper_material.density_kg_per_m3",
+            m.density_kg_per_m3,
+        )?;
+        if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
+            return Err(Error::input(
+                source,
+                "sleeper_material.poisson_ratio",
+                format!("must lie in (-1, 0.5) (got {})", m.poisson_ratio),
+            ));
+        }
+        non_negative(source, "torque.max_n_m", self.torque.max_n_m)?;
+        positive(source, "torque.ramp_end_s", self.torque.ramp_end_s)?;
+        if let Some(l) = &self.lateral_motion {
+            non_negative(source, "lateral_motion.start_s", l.start_s)?;
+            if !(l.velocity_m_per_s.abs() <= 5.0) {
+                return Err(Error::input(
+                    source,
+                    "lateral_motion.velocity_m_per_s",
+                    format!("must lie in [-5, 5] m/s (got {})", l.velocity_m_per_s),
+                ));
+            }
+        }
+        self.friction.validate(source, "friction")?;
+        if !(self.penalty_scale > 0.0 && self.penalty_scale <= 100.0) {
+            return Err(Error::input(
+                source,
+                "penalty_scale",
+                format!("must lie in (0, 100] (got {})", self.penalty_scale),
+            ));
+        }
+        non_negative(source, "mass_damping_per_s", self.mass_damping_per_s)?;
+        positive(source, "preload.damping_per_s", self.preload.damping_per_s)?;
+        if !(self.preload.tolerance > 0.0 && self.preload.tolerance < 1.0) {
+            return Err(Error::input(
+                source,
+                "preload.tolerance",
+                format!("must lie in (0, 1) (got {})", self.preload.tolerance),
+            ));
+        }
+        let o = &self.output;
+        if !(o.sample_rate_hz >= 100.0 && o.sample_rate_hz <= 1e7) {
+            return Err(Error::input(
+                source,
+                "output.sample_rate_hz",
+                format!("must lie in [100, 1e7] Hz (got {})", o.sample_rate_hz),
+            ));
+        }
+        for (k, t) in o.patch_times_s.iter().chain(&o.vtu_times_s).enumerate() {
+            if !(*t >= 0.0 && *t <= self.end_time_s) {
+                return Err(Error::input(
+                    source,
+                    format!("output times [{k}]"),
+                    format!(
+                        "must lie in [0, end_time_s = {}] (got {t})",
+                        self.end_time_s
+                    ),
+                ));
+            }
+        }
+        positive(
+            source,
+            "output.slip_threshold_m_per_s",
+            o.slip_threshold_m_per_s,
+        )?;
+        Ok(())
+    }
+
+    /// Rolling speed (m/s).
+    pub fn speed_m_per_s(&self) -> f64 {
+        self.speed_km_per_h / 3.6
+    }
+}
+
+/// Reads and validates a case and the model scenario it names.
+pub fn load_case(path: &Path) -> Result<LoadedCase> {
+    let source = path.display().to_string();
+    let case: RollingCase = read_json(path)?;
+    case.validate(&source)?;
+    let scenario_path = path
+        .parent()
+        .unwrap_or(Path::new("."))
+        .join(&case.model_scenario);
+    if !scenario_path.exists() {
+        return Err(Error::input(
+            &source,
+            "model_scenario",
+            format!("file {} does not exist", scenario_path.display()),
+        ));
+    }
+    let scenario = LoadedScenario::from_file(&scenario_path)?;
+    Ok(LoadedCase {
+        case,
+        scenario,
+        source: path.to_path_buf(),
+    })
+}

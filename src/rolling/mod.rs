@@ -1,0 +1,792 @@
+//! Wheel-rail rolling contact (issue "rolling contact"): the half wheelset with its sprung mass
+//! on the 54E1 track, rolled by the explicit engine with penalty contact and friction.
+//!
+//! The model (PAPER.md "The model"):
+//! - wheel, half axle, tread band, rail, rail band and sleepers are the scenario's hexahedra,
+//!   the bands tied to their bodies;
+//! - the two axle end faces are rigid bodies: both get the prescribed lateral motion (same
+//!   history, so the angle of attack stays zero), the inner one the driving torque about the
+//!   axle (y), the outer one (the axle box) the primary suspension to the sprung mass node;
+//! - rail pads are spring-dampers from each rail-foot node over a sleeper to the nearest
+//!   sleeper-top node (the pad's totals shared equally); ballast is a vertical spring-damper
+//!   from each sleeper-bottom node to the ground, whose lateral and longitudinal motion is
+//!   fixed, as is that of the rail ends;
+//! - the sprung mass starts at its static position (the suspension carries its weight from the
+//!   first step): its 1-2 Hz bounce would otherwise need seconds of relaxation;
+//! - static preload by dynamic relaxation; then the wheelset gets its rolling velocity
+//!   `v = V e_x + (V / R) e_y x r` (R: tread radius at the tape circle) and the run starts.
+//!
+//! Outputs in the run directory: `histories.csv` (wheel vibration: rim point and rim average,
+//! lateral / vertical / longitudinal velocity in the frame that moves and turns with the
+//! wheelset, so the rolling motion itself is not in the signal), `contact_forces.csv`,
+//! `patches/patch_*.csv|json`, `energy.csv`, `status.json`, `run.json`, VTU snapshots.
+
+pub mod case;
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::contact::{patch, ContactPair};
+use crate::explicit::model::{RigidBodySpec, TorqueLoad};
+use crate::explicit::preload::{relax, PreloadOptions, PreloadReport};
+use crate::explicit::run::{push_num, run, truncate_csv_after, RunOptions, RunSummary};
+use crate::explicit::solver::OutputFields;
+use crate::explicit::{AuxForces, Curve, ElasticMaterial, Formulation, Model, Solver, Spring};
+use crate::mesh::{material, P3};
+use crate::{Error, Result};
+
+pub use case::{load_case, LoadedCase, RollingCase};
+
+/// Standard gravity (m/s^2).
+const G_M_PER_S2: f64 = 9.81;
+
+/// What the builder found, for `run.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModelInfo {
+    /// Nodes and elements.
+    pub nodes: usize,
+    /// Elements.
+    pub elements: usize,
+    /// Contact slave nodes and master faces.
+    pub contact_slaves: usize,
+    /// Master faces.
+    pub contact_faces: usize,
+    /// Time step (s) and what limits it.
+    pub time_step_s: f64,
+    /// What limits the step.
+    pub time_step_limited_by: String,
+    /// Wheel centre (m) and rolling radius (m).
+    pub wheel_centre_m: P3,
+    /// Rolling radius (m).
+    pub rolling_radius_m: f64,
+    /// Total static wheel load: sprung mass + wheelset (N).
+    pub static_wheel_load_n: f64,
+    /// Rim node used for the point histories.
+    pub rim_node: usize,
+}
+
+/// A built rolling model, ready to run.
+pub struct RollingModel {
+    /// The engine.
+    pub solver: Solver,
+    /// Contact and its outputs.
+    pub contact: RollingContact,
+    /// Nodes of the wheelset (wheel, axle, band), which get the rolling velocity.
+    pub wheelset_nodes: Vec<usize>,
+    /// The sprung mass node.
+    pub sprung_node: usize,
+    /// Facts for `run.json`.
+    pub info: ModelInfo,
+}
+
+/// Steel or concrete as the engine's material.
+fn elastic(e: f64, nu: f64, rho: f64) -> ElasticMaterial {
+    ElasticMaterial {
+        density_kg_per_m3: rho,
+        youngs_modulus_pa: e,
+        poisson_ratio: nu,
+    }
+}
+
+/// Builds the model of a case (no preload yet).
+pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
+    let case = &loaded.case;
+    let source = loaded.source.display().to_string();
+    let sc = &loaded.scenario;
+    let mesh = sc.model_mesh();
+    let steel_spec = sc.wheel.material;
+    let steel = elastic(
+        steel_spec.youngs_modulus_pa,
+        steel_spec.poisson_ratio,
+        steel_spec.density_kg_per_m3,
+    );
+    let concrete = elastic(
+        case.sleeper_material.youngs_modulus_pa,
+        case.sleeper_material.poisson_ratio,
+        case.sleeper_material.density_kg_per_m3,
+    );
+    let materials: BTreeMap<u32, ElasticMaterial> = [
+        (material::WHEEL, steel),
+        (material::AXLE, steel),
+        (material::TREAD_BAND, steel),
+        (material::RAIL, steel),
+        (material::RAIL_BAND, steel),
+        (material::SLEEPER, concrete),
+    ]
+    .into_iter()
+    .collect();
+    // Wheelset nodes: those of wheel, axle and band elements.
+    let mut in_wheelset = vec![false; mesh.nodes.len()];
+    for (e, el) in mesh.elements.iter().enumerate() {
+        if matches!(
+            mesh.material[e],
+            material::WHEEL | material::AXLE | material::TREAD_BAND
+        ) {
+            for &n in el {
+                in_wheelset[n] = true;
+            }
+        }
+    }
+    let wheelset_nodes: Vec<usize> = (0..mesh.nodes.len()).filter(|&n| in_wheelset[n]).collect();
+    let placement = sc.wheel_placement();
+    let centre = placement.tape_circle_centre_m;
+    let rolling_radius_m = sc.wheel.tread_radius_mm(0.0) * 1e-3;
+    // Contact: wheel tread nodes (slaves) on the rail top faces (masters).
+    let slaves = mesh
+        .node_set("wheel_tread")
+        .ok_or_else(|| {
+            Error::input(
+                &source,
+                "model_scenario",
+                "the wheel mesh has no `wheel_tread` node set",
+            )
+        })?
+        .to_vec();
+    let faces = mesh
+        .surfaces
+        .get("rail_top")
+        .ok_or_else(|| {
+            Error::input(
+                &source,
+                "model_scenario",
+                "the track mesh has no `rail_top` surface",
+            )
+        })?
+        .clone();
+    let bulk_pa = steel.youngs_modulus_pa / (3.0 * (1.0 - 2.0 * steel.poisson_ratio));
+    let pair = ContactPair::new(
+        "wheel_on_rail",
+        &mesh,
+        slaves,
+        faces,
+        case.penalty_scale,
+        bulk_pa,
+        case.friction,
+    )
+    .map_err(|e| Error::input(&source, "penalty_scale / friction", e.to_string()))?;
+    // Rim point: the top node of the field-side rim face.
+    let rim_nodes = rim_face_nodes(&mesh.nodes, &wheelset_nodes, centre);
+    let rim_node = *rim_nodes
+        .iter()
+        .max_by(|&&a, &&b| mesh.nodes[a][2].total_cmp(&mesh.nodes[b][2]))
+        .ok_or_else(|| Error::input(&source, "model_scenario", "no rim nodes found"))?;
+    let hub_nodes = mesh
+        .node_set("hub_bore")
+        .ok_or_else(|| {
+            Error::input(
+                &source,
+                "model_scenario",
+                "the wheel mesh has no `hub_bore` node set",
+            )
+        })?
+        .to_vec();
+    let sleeper_count = mesh
+        .node_sets
+        .keys()
+        .filter(|k| k.starts_with("sleeper_top_"))
+        .count();
+
+    let mut model = Model::from_mesh(mesh, &materials, Formulation::default(), &source)?;
+    model.gravity_m_per_s2 = [0.0, 0.0, -G_M_PER_S2];
+    model.mass_damping_per_s = case.mass_damping_per_s;
+    // Track supports.
+    model.fix_set("rail_ends", [true, true, false])?;
+    model.fix_set("sleeper_bottoms", [true, true, false])?;
+    let pad = case.rail_pad;
+    let shear = pad.shear_fraction;
+    for k in 0..sleeper_count {
+        let tops = model.node_set(&format!("sleeper_top_{k}"))?;
+        let bottoms = format!("sleeper_bottom_{k}");
+        model.add_ground_springs(
+            &bottoms,
+            [0.0, 0.0, case.ballast.stiffness_n_per_m],
+            [0.0, 0.0, case.ballast.damping_n_s_per_m],
+        )?;
+        let pad_nodes = model.node_set(&format!("rail_pad_{k}"))?;
+        let share = 1.0 / pad_nodes.len() as f64;
+        for &n in &pad_nodes {
+            let x = model.mesh.nodes[n];
+            let nearest = *tops
+                .iter()
+                .min_by(|&&a, &&b| {
+                    dist2(model.mesh.nodes[a], x).total_cmp(&dist2(model.mesh.nodes[b], x))
+                })
+                .ok_or_else(|| {
+                    Error::input(&source, "model_scenario", "a sleeper has no top nodes")
+                })?;
+            let (kz, cz) = (pad.stiffness_n_per_m * share, pad.damping_n_s_per_m * share);
+            model.add_spring(Spring {
+                name: format!("rail_pad_{k}"),
+                node_a: n,
+                node_b: Some(nearest),
+                stiffness_n_per_m: [shear * kz, shear * kz, kz],
+                damping_n_s_per_m: [shear * cz, shear * cz, cz],
+            })?;
+        }
+    }
+    // Axle ends: rigid bodies with the lateral motion; torque on the inner end.
+    let lateral = lateral_curve(case);
+    let inner = model.add_rigid_body("axle_inner_end")?;
+    let outer = model.add_rigid_body("axle_outer_end")?;
+    for b in [inner, outer] {
+        model.rigid_bodies[b].prescribed_translation_m[1] = Some(lateral.clone());
+    }
+    let rb: &mut RigidBodySpec = &mut model.rigid_bodies[inner];
+    rb.torque = Some(TorqueLoad {
+        axis: [0.0, 1.0, 0.0],
+        curve_n_m: Curve::new(
+            vec![
+                0.0,
+                case.torque.ramp_end_s,
+                case.end_time_s.max(case.torque.ramp_end_s) + 1.0,
+            ],
+            vec![0.0, case.torque.max_n_m, case.torque.max_n_m],
+            "torque",
+        )?,
+    });
+    // Sprung mass on the primary suspension, joined to the axle-box node nearest the axis.
+    let outer_nodes = model.node_set("axle_outer_end")?;
+    let axle_box = *outer_nodes
+        .iter()
+        .min_by(|&&a, &&b| {
+            let da = axis_distance2(model.mesh.nodes[a], centre);
+            let db = axis_distance2(model.mesh.nodes[b], centre);
+            da.total_cmp(&db)
+        })
+        .ok_or_else(|| Error::input(&source, "model_scenario", "empty axle_outer_end set"))?;
+    let box_x = model.mesh.nodes[axle_box];
+    let sprung_node = model.add_point_mass(
+        "sprung_mass",
+        [box_x[0], box_x[1], box_x[2] + 0.5],
+        case.sprung_mass_kg,
+    )?;
+    let ps = case.primary_suspension;
+    model.add_spring(Spring {
+        name: "primary_suspension".into(),
+        node_a: axle_box,
+        node_b: Some(sprung_node),
+        stiffness_n_per_m: [ps.stiffness_n_per_m; 3],
+        damping_n_s_per_m: [ps.damping_n_s_per_m; 3],
+    })?;
+    let wheelset_mass: f64 = wheelset_nodes.iter().map(|&n| model.nodal_mass_kg[n]).sum();
+    let static_wheel_load_n = (wheelset_mass + case.sprung_mass_kg) * G_M_PER_S2;
+    let bound = pair.time_step_bound_s(&model.nodal_mass_kg);
+    model.register_time_step_bound("contact penalty", bound);
+    let mut solver = Solver::new(model, None)?;
+    // The sprung mass sits at its static position: the suspension carries its weight.
+    solver.u[sprung_node][2] = -case.sprung_mass_kg * G_M_PER_S2 / ps.stiffness_n_per_m;
+    let (dt, limited) = solver.stable_time_step_s()?;
+    let info = ModelInfo {
+        nodes: solver.model.node_count(),
+        elements: solver.model.elements.len(),
+        contact_slaves: pair.slaves.len(),
+        contact_faces: pair.faces.len(),
+        time_step_s: dt,
+        time_step_limited_by: limited,
+        wheel_centre_m: centre,
+        rolling_radius_m,
+        static_wheel_load_n,
+        rim_node,
+    };
+    let contact = RollingContact {
+        pair,
+        rim_node,
+        rim_nodes,
+        hub_nodes,
+        patch_times_s: case.output.patch_times_s.clone(),
+        slip_threshold_m_per_s: case.output.slip_threshold_m_per_s,
+        writer: None,
+        out_dir: PathBuf::new(),
+        resume_time_s: None,
+    };
+    Ok(RollingModel {
+        solver,
+        contact,
+        wheelset_nodes,
+        sprung_node,
+        info,
+    })
+}
+
+fn dist2(a: P3, b: P3) -> f64 {
+    (0..3).map(|i| (a[i] - b[i]) * (a[i] - b[i])).sum()
+}
+
+fn axis_distance2(x: P3, centre: P3) -> f64 {
+    (x[0] - centre[0]).powi(2) + (x[2] - centre[2]).powi(2)
+}
+
+/// Nodes of the field-side face of the rim: wheelset nodes within 1 mm of the largest y among
+/// nodes beyond 90 % of the largest radius.
+fn rim_face_nodes(nodes: &[P3], wheelset: &[usize], centre: P3) -> Vec<usize> {
+    let r_max = wheelset
+        .iter()
+        .map(|&n| axis_distance2(nodes[n], centre).sqrt())
+        .fold(0.0, f64::max);
+    let outer: Vec<usize> = wheelset
+        .iter()
+        .copied()
+        .filter(|&n| axis_distance2(nodes[n], centre).sqrt() > 0.9 * r_max)
+        .collect();
+    let y_max = outer
+        .iter()
+        .map(|&n| nodes[n][1])
+        .fold(f64::NEG_INFINITY, f64::max);
+    outer
+        .into_iter()
+        .filter(|&n| nodes[n][1] > y_max - 1e-3)
+        .collect()
+}
+
+/// Lateral displacement of the axle ends against time.
+fn lateral_curve(case: &RollingCase) -> Curve {
+    let end = case.end_time_s + 1.0;
+    match case.lateral_motion {
+        None => Curve::constant(0.0),
+        Some(l) if l.start_s > 0.0 => Curve::new(
+            vec![0.0, l.start_s, end],
+            vec![0.0, 0.0, l.velocity_m_per_s * (end - l.start_s)],
+            "lateral_motion",
+        )
+        .unwrap_or_else(|_| Curve::constant(0.0)),
+        Some(l) => Curve::new(
+            vec![0.0, end],
+            vec![0.0, l.velocity_m_per_s * end],
+            "lateral_motion",
+        )
+        .unwrap_or_else(|_| Curve::constant(0.0)),
+    }
+}
+
+/// Contact plus the rolling outputs: `contact_forces.csv`, patch snapshots and the wheel
+/// vibration columns of `histories.csv`.
+pub struct RollingContact {
+    /// The wheel-rail contact pair.
+    pub pair: ContactPair,
+    rim_node: usize,
+    rim_nodes: Vec<usize>,
+    hub_nodes: Vec<usize>,
+    patch_times_s: Vec<f64>,
+    slip_threshold_m_per_s: f64,
+    writer: Option<BufWriter<File>>,
+    out_dir: PathBuf,
+    resume_time_s: Option<f64>,
+}
+
+/// Header of `contact_forces.csv`: forces on the wheel (N) in track axes.
+pub const CONTACT_FORCE_COLUMNS: &str = "time_s,normal_force_n,longitudinal_force_n,lateral_force_n,vertical_force_n,creep_force_n,traction_bound_n,traction_coefficient,contact_nodes,max_penetration_m";
+
+impl RollingContact {
+    fn write_forces(&mut self, time_s: f64) -> Result<()> {
+        let path = self.out_dir.join("contact_forces.csv");
+        if self.writer.is_none() {
+            let append = match self.resume_time_s {
+                Some(t) if path.exists() => {
+                    truncate_csv_after(&path, t)?;
+                    true
+                }
+                _ => false,
+            };
+            let file = std::fs::OpenOptions::new()
+                .create(true)
+                .write(true)
+                .append(append)
+                .truncate(!append)
+                .open(&path)
+                .map_err(|e| Error::io(&path, e))?;
+            let mut w = BufWriter::new(file);
+            if !append {
+                writeln!(w, "{CONTACT_FORCE_COLUMNS}").map_err(|e| Error::io(&path, e))?;
+            }
+            self.writer = Some(w);
+        }
+        let (normal, tangential, bound) = self.pair.resultants();
+        let mut n_mag = 0.0;
+        let mut count = 0usize;
+        let mut deepest: f64 = 0.0;
+        for s in &self.pair.state {
+            if s.active {
+                n_mag += s.normal_force_n;
+                count += 1;
+                deepest = deepest.max(s.penetration_m);
+            }
+        }
+        let total = [0, 1, 2].map(|i| normal[i] + tangential[i]);
+        let creep = (tangential[0].powi(2) + tangential[1].powi(2) + tangential[2].powi(2)).sqrt();
+        let coefficient = if n_mag > 0.0 { total[0] / n_mag } else { 0.0 };
+        let mut row = String::with_capacity(256);
+        push_num(&mut row, time_s);
+        for x in [
+            n_mag,
+            total[0],
+            total[1],
+            total[2],
+            creep,
+            bound,
+            coefficient,
+        ] {
+            row.push(',');
+            push_num(&mut row, x);
+        }
+        row.push_str(&format!(",{count},"));
+        push_num(&mut row, deepest);
+        row.push('\n');
+        if let Some(w) = self.writer.as_mut() {
+            w.write_all(row.as_bytes())
+                .map_err(|e| Error::io(&path, e))?;
+        }
+        Ok(())
+    }
+
+    /// Flushes `contact_forces.csv`.
+    pub fn flush(&mut self) -> Result<()> {
+        let path = self.out_dir.join("contact_forces.csv");
+        if let Some(w) = self.writer.as_mut() {
+            w.flush().map_err(|e| Error::io(&path, e))?;
+        }
+        Ok(())
+    }
+}
+
+/// Rigid motion of the wheelset from the hub nodes: centre velocity (mean) and spin rate about
+/// y, `Omega = mean((r x (v - v_c))_y / |r|^2)` with r in the x-z plane.
+fn wheelset_motion(hub: &[usize], reference: &[P3], output: &OutputFields) -> (P3, P3, f64) {
+    let n = hub.len().max(1) as f64;
+    let mut c = [0.0; 3];
+    let mut vc = [0.0; 3];
+    for &h in hub {
+        for i in 0..3 {
+            c[i] += (reference[h][i] + output.displacement[h][i]) / n;
+            vc[i] += output.velocity[h][i] / n;
+        }
+    }
+    let mut omega = 0.0;
+    for &h in hub {
+        let rx = reference[h][0] + output.displacement[h][0] - c[0];
+        let rz = reference[h][2] + output.displacement[h][2] - c[2];
+        let dvx = output.velocity[h][0] - vc[0];
+        let dvz = output.velocity[h][2] - vc[2];
+        // (r x dv)_y = r_z dv_x - r_x dv_z
+        let r2 = rx * rx + rz * rz;
+        if r2 > 0.0 {
+            omega += (rz * dvx - rx * dvz) / r2 / n;
+        }
+    }
+    (c, vc, omega)
+}
+
+/// Velocity of node `nd` relative to the rigid motion (centre `c`, velocity `vc`, spin
+/// `omega` about y): `v - v_c - omega e_y x r`, with `e_y x r = (r_z, 0, -r_x)`.
+fn deformation_velocity(
+    nd: usize,
+    reference: &[P3],
+    output: &OutputFields,
+    c: P3,
+    vc: P3,
+    omega: f64,
+) -> P3 {
+    let r = [0, 1, 2].map(|i| reference[nd][i] + output.displacement[nd][i] - c[i]);
+    let v = output.velocity[nd];
+    [
+        v[0] - vc[0] - omega * r[2],
+        v[1] - vc[1],
+        v[2] - vc[2] + omega * r[0],
+    ]
+}
+
+/// Wheel vibration columns of `histories.csv`.
+pub const VIBRATION_COLUMNS: [&str; 6] = [
+    "lateral_velocity_m_per_s",
+    "vertical_velocity_m_per_s",
+    "longitudinal_velocity_m_per_s",
+    "rim_mean_lateral_velocity_m_per_s",
+    "rim_mean_vertical_velocity_m_per_s",
+    "rim_mean_longitudinal_velocity_m_per_s",
+];
+
+impl AuxForces for RollingContact {
+    fn add_forces(&mut self, time_s: f64, dt_s: f64, u: &[P3], v: &[P3], force: &mut [P3]) {
+        self.pair.add_forces(time_s, dt_s, u, v, force);
+    }
+
+    fn on_sample(&mut self, time_s: f64, _out_dir: &Path) -> Result<()> {
+        self.write_forces(time_s)
+    }
+
+    fn history_columns(&self) -> Vec<String> {
+        VIBRATION_COLUMNS.iter().map(|s| s.to_string()).collect()
+    }
+
+    fn push_history_values(
+        &mut self,
+        time_s: f64,
+        reference: &[P3],
+        output: &OutputFields,
+        row: &mut String,
+    ) -> Result<()> {
+        let (c, vc, omega) = wheelset_motion(&self.hub_nodes, reference, output);
+        let point = deformation_velocity(self.rim_node, reference, output, c, vc, omega);
+        let mut mean = [0.0; 3];
+        for &nd in &self.rim_nodes {
+            let d = deformation_velocity(nd, reference, output, c, vc, omega);
+            for i in 0..3 {
+                mean[i] += d[i] / self.rim_nodes.len() as f64;
+            }
+        }
+        // Lateral = y, vertical = z, longitudinal = x.
+        for x in [point[1], point[2], point[0], mean[1], mean[2], mean[0]] {
+            row.push(',');
+            push_num(row, x);
+        }
+        // Patch snapshots at the first sample at or after each requested time.
+        while let Some(&t) = self.patch_times_s.first() {
+            if t > time_s + 1e-12 {
+                break;
+            }
+            let dir = self.out_dir.join("patches");
+            std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+            patch::write_snapshot(
+                &self.pair,
+                reference,
+                &output.displacement,
+                time_s,
+                self.slip_threshold_m_per_s,
+                &dir,
+            )?;
+            self.patch_times_s.remove(0);
+        }
+        Ok(())
+    }
+
+    fn checkpoint_state(&self) -> Vec<f64> {
+        self.pair.checkpoint_state()
+    }
+
+    fn restore_state(&mut self, state: &[f64]) -> Result<()> {
+        self.pair.restore_state(state)
+    }
+}
+
+/// Options of [`simulate`].
+#[derive(Clone, Debug)]
+pub struct SimulateOptions {
+    /// Output directory.
+    pub out_dir: PathBuf,
+    /// Resume from the checkpoint in `out_dir`.
+    pub resume: bool,
+    /// Progress bar.
+    pub progress: bool,
+    /// Override of the case's end time (s), e.g. for quick checks.
+    pub end_time_s: Option<f64>,
+}
+
+/// `run.json`: what was run and what came out.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunRecord {
+    /// Case name.
+    pub case: String,
+    /// Case file.
+    pub case_file: String,
+    /// Model scenario name.
+    pub scenario: String,
+    /// The case as read.
+    pub settings: RollingCase,
+    /// Model facts.
+    pub model: ModelInfo,
+    /// Preload result (None when resumed).
+    pub preload: Option<PreloadReport>,
+    /// Engine summary.
+    pub run: RunSummary,
+    /// Mean traction coefficient (longitudinal / normal force) over the last quarter of the
+    /// run, measured.
+    pub measured_traction_coefficient: Option<f64>,
+    /// Mean normal force over the first 5 ms after preload (N).
+    pub initial_normal_force_n: Option<f64>,
+}
+
+/// Runs one case into `opts.out_dir`.
+pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord> {
+    let mut case = loaded.case.clone();
+    if let Some(t) = opts.end_time_s {
+        if !(t > 0.0 && t <= 1.0) {
+            return Err(Error::input(
+                "command line",
+                "--end-time-ms",
+                format!("must lie in (0, 1000] ms (got {})", t * 1e3),
+            ));
+        }
+        case.end_time_s = t;
+        case.output.patch_times_s.retain(|&x| x <= t);
+        case.output.vtu_times_s.retain(|&x| x <= t);
+    }
+    let loaded_case = LoadedCase {
+        case: case.clone(),
+        scenario: loaded.scenario.clone(),
+        source: loaded.source.clone(),
+    };
+    std::fs::create_dir_all(&opts.out_dir).map_err(|e| Error::io(&opts.out_dir, e))?;
+    let mut m = build(&loaded_case)?;
+    m.contact.out_dir = opts.out_dir.clone();
+    let mut preload = None;
+    if !opts.resume {
+        let report = relax(
+            &mut m.solver,
+            &mut m.contact,
+            PreloadOptions {
+                tolerance: case.preload.tolerance,
+                max_steps: case.preload.max_steps,
+                fixed_damping_per_s: Some(case.preload.damping_per_s),
+                require_convergence: false,
+                ..Default::default()
+            },
+        )?;
+        if opts.progress {
+            eprintln!(
+                "preload: {} steps, relative residual {:.2e}{}",
+                report.steps,
+                report.relative_residual,
+                if report.converged {
+                    ""
+                } else {
+                    " (step limit reached; run continues)"
+                }
+            );
+        }
+        preload = Some(report);
+        // Rolling: v = V e_x + (V / R) e_y x (x - centre) on the wheelset; the sprung mass
+        // moves with it.
+        let speed = case.speed_m_per_s();
+        let omega = [0.0, speed / m.info.rolling_radius_m, 0.0];
+        let centre = m.info.wheel_centre_m;
+        let nodes = m.wheelset_nodes.clone();
+        m.solver
+            .set_initial_velocity(Some(&nodes), [speed, 0.0, 0.0], omega, centre);
+        m.solver.v[m.sprung_node] = [speed, 0.0, 0.0];
+        m.solver.rebase_energy();
+    }
+    let sample_interval_s = 1.0 / case.output.sample_rate_hz;
+    let run_opts = RunOptions {
+        end_time_s: case.end_time_s,
+        sample_interval_s,
+        energy_every_samples: 10,
+        probes: Vec::new(),
+        snapshot_times_s: case.output.vtu_times_s.clone(),
+        checkpoint_every_steps: case.output.checkpoint_every_steps,
+        out_dir: opts.out_dir.clone(),
+        resume: opts.resume,
+        progress: opts.progress,
+        balance_threshold: 0.05,
+    };
+    let summary = if opts.resume {
+        // The checkpoint sets the time; contact_forces.csv is cut there on first write.
+        run_resumed(&mut m, &run_opts)?
+    } else {
+        run(&mut m.solver, &mut m.contact, &run_opts)?
+    };
+    m.contact.flush()?;
+    let (traction, initial_n) =
+        force_statistics(&opts.out_dir.join("contact_forces.csv"), case.end_time_s);
+    let record = RunRecord {
+        case: case.name.clone(),
+        case_file: loaded.source.display().to_string(),
+        scenario: loaded.scenario.scenario.name.clone(),
+        settings: case,
+        model: m.info,
+        preload,
+        run: summary,
+        measured_traction_coefficient: traction,
+        initial_normal_force_n: initial_n,
+    };
+    let path = opts.out_dir.join("run.json");
+    let text =
+        serde_json::to_string_pretty(&record).map_err(|e| Error::Numerical(e.to_string()))?;
+    std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
+    Ok(record)
+}
+
+fn run_resumed(m: &mut RollingModel, run_opts: &RunOptions) -> Result<RunSummary> {
+    // `run` restores the solver from the checkpoint before the first sample; the contact
+    // writer then cuts its file at the restored time.
+    struct Resumed<'a>(&'a mut RollingContact, bool);
+    impl AuxForces for Resumed<'_> {
+        fn add_forces(&mut self, t: f64, dt: f64, u: &[P3], v: &[P3], f: &mut [P3]) {
+            if !self.1 {
+                self.0.resume_time_s = Some(t);
+                self.1 = true;
+            }
+            self.0.add_forces(t, dt, u, v, f);
+        }
+        fn on_sample(&mut self, t: f64, d: &Path) -> Result<()> {
+            self.0.on_sample(t, d)
+        }
+        fn history_columns(&self) -> Vec<String> {
+            self.0.history_columns()
+        }
+        fn push_history_values(
+            &mut self,
+            t: f64,
+            r: &[P3],
+            o: &OutputFields,
+            row: &mut String,
+        ) -> Result<()> {
+            self.0.push_history_values(t, r, o, row)
+        }
+        fn checkpoint_state(&self) -> Vec<f64> {
+            self.0.checkpoint_state()
+        }
+        fn restore_state(&mut self, s: &[f64]) -> Result<()> {
+            self.0.restore_state(s)
+        }
+    }
+    let mut wrapped = Resumed(&mut m.contact, false);
+    run(&mut m.solver, &mut wrapped, run_opts)
+}
+
+/// Mean traction coefficient over the last quarter of the run and the mean normal force over
+/// the first 5 ms, from `contact_forces.csv`.
+fn force_statistics(path: &Path, end_time_s: f64) -> (Option<f64>, Option<f64>) {
+    let Ok(table) = crate::report::run_report::Table::read(path) else {
+        return (None, None);
+    };
+    let col = |name: &str| {
+        table
+            .headers
+            .iter()
+            .position(|h| h == name)
+            .map(|k| &table.columns[k])
+    };
+    let (Some(t), Some(n), Some(fx)) = (
+        col("time_s"),
+        col("normal_force_n"),
+        col("longitudinal_force_n"),
+    ) else {
+        return (None, None);
+    };
+    let mut sum = (0.0, 0.0);
+    let mut first = (0.0, 0usize);
+    for k in 0..t.len() {
+        if t[k] >= 0.75 * end_time_s {
+            sum.0 += fx[k];
+            sum.1 += n[k];
+        }
+        if t[k] <= 0.005 {
+            first.0 += n[k];
+            first.1 += 1;
+        }
+    }
+    let traction = if sum.1 > 0.0 {
+        Some(sum.0 / sum.1)
+    } else {
+        None
+    };
+    let initial = if first.1 > 0 {
+        Some(first.0 / first.1 as f64)
+    } else {
+        None
+    };
+    (traction, initial)
+}
