@@ -1,4 +1,4 @@
-//! Rolling contact on the tiny test model (data/scenarios/case3-ci.json, 3 ms): the whole
+//! Rolling contact on the tiny test model (data/scenarios/case3-ci.json, 2 ms): the whole
 //! `squeal simulate` path (model build, preload, rolling start, contact, outputs) and the
 //! invariants every case must keep. The demo cases run the same code on finer meshes.
 use std::path::Path;
@@ -37,7 +37,8 @@ fn tiny_case_runs_and_keeps_the_contact_invariants() {
         "energy.csv",
         "run.json",
         "status.json",
-        "patches/patch_0002000.0us.json",
+        "patches/patch_0001500.0us.json",
+        "snapshot_0002000.0us.vtu",
     ] {
         assert!(dir.join(f).exists(), "{f} missing");
     }
@@ -99,7 +100,7 @@ fn bad_case_files_name_the_field() {
             "penalty_scale",
         ),
         ("\"mu\": 0.45", "\"mu\": 7.0", "friction"),
-        ("\"end_time_s\": 0.003", "\"end_time_s\": 5.0", "end_time_s"),
+        ("\"end_time_s\": 0.002", "\"end_time_s\": 5.0", "end_time_s"),
         (
             "\"model_scenario\": \"ci-tiny.json\"",
             "\"model_scenario\": \"missing.json\"",

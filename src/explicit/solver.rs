@@ -222,6 +222,10 @@ pub struct Solver {
     f_aux: Vec<P3>,
     inv_mass: Vec<f64>,
     eff_mass: Vec<f64>,
+    /// Masses gravity acts on: `eff_mass` unless inertia scaling is on.
+    gravity_mass: Vec<f64>,
+    /// The step without inertia scaling.
+    unscaled_dt_s: f64,
     role: Vec<u8>,
     prescribed_velocity: Vec<P3>,
     colours: Vec<Vec<Range<usize>>>,
@@ -487,6 +491,7 @@ impl Solver {
             f_int: vec![[0.0; 3]; n],
             f_aux: vec![[0.0; 3]; n],
             inv_mass,
+            gravity_mass: eff_mass.clone(),
             eff_mass,
             role,
             prescribed_velocity: vec![[0.0; 3]; n],
@@ -500,6 +505,7 @@ impl Solver {
             avx2: super::batch::uses_avx2(),
             last_energy: None,
             baseline_pending: true,
+            unscaled_dt_s: 0.0,
             model,
         };
         let stable = solver.stable_time_step_s()?;
@@ -517,7 +523,50 @@ impl Solver {
                 ))
             }
         };
+        solver.unscaled_dt_s = solver.dt_s;
         Ok(solver)
+    }
+
+    /// Inertia scaling for a quasi-static phase (preload): adds `added_kg[n]` to the inertia of
+    /// node `n` (tie slaves pass theirs to their masters; rigid-body members are left as they
+    /// are) while gravity keeps acting on the true masses, and runs at step `dt_s`. Static
+    /// equilibrium does not depend on inertia, so a larger step reaches it in fewer steps. The
+    /// caller chooses `added_kg` so that `dt_s` is stable (see `rolling::preload_scaling`).
+    pub fn set_inertia_scaling(&mut self, added_kg: &[f64], dt_s: f64) -> Result<()> {
+        if added_kg.len() != self.eff_mass.len() || !(dt_s > 0.0 && dt_s.is_finite()) {
+            return Err(Error::input(
+                "model",
+                "inertia_scaling",
+                "needs one added mass per node and a positive step",
+            ));
+        }
+        let mut added = added_kg.to_vec();
+        for p in &self.model.ties {
+            let ms = added[p.slave];
+            for (k, m) in p.master.iter().enumerate() {
+                added[*m] += p.weights[k] * ms;
+            }
+            added[p.slave] = 0.0;
+        }
+        for i in 0..self.eff_mass.len() {
+            if self.role[i] & (ROLE_SLAVE | ROLE_RIGID) == 0 {
+                self.eff_mass[i] = self.gravity_mass[i] + added[i].max(0.0);
+                self.inv_mass[i] = 1.0 / self.eff_mass[i];
+            }
+        }
+        self.dt_s = dt_s;
+        Ok(())
+    }
+
+    /// Back to the true inertia and the step the solver was built with.
+    pub fn clear_inertia_scaling(&mut self) {
+        for i in 0..self.eff_mass.len() {
+            if self.role[i] & (ROLE_SLAVE | ROLE_RIGID) == 0 {
+                self.eff_mass[i] = self.gravity_mass[i];
+                self.inv_mass[i] = 1.0 / self.eff_mass[i];
+            }
+        }
+        self.dt_s = self.unscaled_dt_s;
     }
 
     /// Stable time step (s) and what sets it: the smallest element transit `L / c_L` (current
@@ -853,6 +902,7 @@ impl Solver {
             &self.role,
             &self.prescribed_velocity,
         );
+        let gravity_mass = &self.gravity_mass;
         (0..n_chunks)
             .into_par_iter()
             .map(|c| {
@@ -864,13 +914,14 @@ impl Solver {
                         continue;
                     }
                     let m = eff_mass[nd];
+                    let mg = gravity_mass[nd];
                     let im = inv_mass[nd];
                     // SAFETY: each node index belongs to exactly one chunk.
                     let (un, vn) = unsafe { (&mut *u_ptr.at(nd), &mut *v_ptr.at(nd)) };
                     let (fi, fa) = (f_int[nd], f_aux[nd]);
                     let mut vnew = [0.0; 3];
                     for i in 0..3 {
-                        let force = fa[i] - fi[i] + m * g[i] - alpha * m * vn[i];
+                        let force = fa[i] - fi[i] + mg * g[i] - alpha * m * vn[i];
                         vnew[i] = vn[i] + dt * force * im;
                         if r & (1 << i) != 0 {
                             vnew[i] = 0.0;
@@ -885,7 +936,7 @@ impl Solver {
                         }
                         w.internal_j += dt * fi[i] * vbar;
                         w.aux_j += dt * fa[i] * vbar;
-                        w.gravity_j += dt * m * g[i] * vbar;
+                        w.gravity_j += dt * mg * g[i] * vbar;
                         w.mass_damping_j += dt * alpha * m * vn[i] * vbar;
                         if output {
                             kinetic += 0.5 * m * vbar * vbar;
@@ -1154,7 +1205,7 @@ impl Solver {
                 if r & ((1 << i) | (1 << (i + PRESCRIBED_SHIFT as usize))) != 0 {
                     continue;
                 }
-                let fe = self.f_aux[nd][i] + self.eff_mass[nd] * g[i];
+                let fe = self.f_aux[nd][i] + self.gravity_mass[nd] * g[i];
                 let fi = self.f_int[nd][i];
                 res += (fe - fi) * (fe - fi);
                 fi2 += fi * fi;

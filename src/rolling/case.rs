@@ -84,6 +84,11 @@ pub struct PreloadSpec {
     /// Step limit; when reached the run goes on from the partly relaxed state, and `run.json`
     /// records the residual.
     pub max_steps: u64,
+    /// Time step of the relaxation (s), reached by inertia scaling of the small elements, the
+    /// springs' and the contact's nodes (gravity keeps the true masses, so the equilibrium is
+    /// the same). None: the run's own step.
+    #[serde(default)]
+    pub time_step_s: Option<f64>,
 }
 
 /// Output settings.
@@ -278,6 +283,15 @@ impl RollingCase {
                 "preload.tolerance",
                 format!("must lie in (0, 1) (got {})", self.preload.tolerance),
             ));
+        }
+        if let Some(dt) = self.preload.time_step_s {
+            if !(dt > 0.0 && dt <= 1e-4) {
+                return Err(Error::input(
+                    source,
+                    "preload.time_step_s",
+                    format!("must lie in (0, 1e-4] s (got {dt})"),
+                ));
+            }
         }
         let o = &self.output;
         if !(o.sample_rate_hz >= 100.0 && o.sample_rate_hz <= 1e7) {

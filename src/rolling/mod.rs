@@ -33,7 +33,9 @@ use serde::Serialize;
 use crate::contact::{patch, ContactPair};
 use crate::explicit::model::{RigidBodySpec, TorqueLoad};
 use crate::explicit::preload::{relax, PreloadOptions, PreloadReport};
-use crate::explicit::run::{push_num, run, truncate_csv_after, RunOptions, RunSummary};
+use crate::explicit::run::{
+    push_num, run, truncate_csv_after, HistoryProbe, Quantity, RunOptions, RunSummary,
+};
 use crate::explicit::solver::OutputFields;
 use crate::explicit::{AuxForces, Curve, ElasticMaterial, Formulation, Model, Solver, Spring};
 use crate::mesh::{material, P3};
@@ -67,6 +69,8 @@ pub struct ModelInfo {
     pub static_wheel_load_n: f64,
     /// Rim node used for the point histories.
     pub rim_node: usize,
+    /// Inertia added for the preload at its own step (kg), if any.
+    pub preload_added_mass_kg: f64,
 }
 
 /// A built rolling model, ready to run.
@@ -81,6 +85,8 @@ pub struct RollingModel {
     pub sprung_node: usize,
     /// Facts for `run.json`.
     pub info: ModelInfo,
+    /// Inertia added per node for the preload step (empty: none).
+    pub preload_added_mass_kg: Vec<f64>,
 }
 
 /// Steel or concrete as the engine's material.
@@ -276,6 +282,10 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
     let static_wheel_load_n = (wheelset_mass + case.sprung_mass_kg) * G_M_PER_S2;
     let bound = pair.time_step_bound_s(&model.nodal_mass_kg);
     model.register_time_step_bound("contact penalty", bound);
+    let preload_added_mass_kg = match case.preload.time_step_s {
+        Some(dt) => preload_scaling(&model, &materials, &pair, dt),
+        None => Vec::new(),
+    };
     let mut solver = Solver::new(model, None)?;
     // The sprung mass sits at its static position: the suspension carries its weight.
     solver.u[sprung_node][2] = -case.sprung_mass_kg * G_M_PER_S2 / ps.stiffness_n_per_m;
@@ -291,6 +301,7 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         rolling_radius_m,
         static_wheel_load_n,
         rim_node,
+        preload_added_mass_kg: preload_added_mass_kg.iter().sum(),
     };
     let contact = RollingContact {
         pair,
@@ -309,7 +320,73 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         wheelset_nodes,
         sprung_node,
         info,
+        preload_added_mass_kg,
     })
+}
+
+/// Inertia to add per node so that the preload can run at step `dt_s` (with the engine's 0.9
+/// safety factor): an element whose transit `L / c` is below `dt / 0.9` gets its density
+/// raised by `(dt c / (0.9 L))^2` (the wave speed then gives exactly that transit); a node with
+/// springs of total stiffness `sum k` gets at least `2 sum k (dt / 1.8)^2` (then
+/// `2 / sqrt(k (1/m_a + 1/m_b)) >= dt / 0.9`); a contact slave at least `k (dt / 0.9)^2` and a
+/// master-face node `4 k (dt / 0.9)^2` (up to four slaves press on it).
+pub fn preload_scaling(
+    model: &Model,
+    materials: &BTreeMap<u32, ElasticMaterial>,
+    pair: &ContactPair,
+    dt_s: f64,
+) -> Vec<f64> {
+    let n = model.nodal_mass_kg.len();
+    let mut added = vec![0.0; n];
+    let mesh = &model.mesh;
+    for (e, conn) in mesh.elements.iter().enumerate() {
+        let x: [P3; 8] = std::array::from_fn(|a| mesh.nodes[conn[a]]);
+        let transit =
+            crate::mesh::hex::characteristic_length(&x) / model.element_wave_speed_m_per_s[e];
+        let ratio = (dt_s / (0.9 * transit)).powi(2);
+        if ratio <= 1.0 {
+            continue;
+        }
+        let Some(mat) = materials.get(&mesh.material[e]) else {
+            continue;
+        };
+        if let Some(m) = crate::explicit::element::lumped_masses(&x, mat.density_kg_per_m3) {
+            for a in 0..8 {
+                added[conn[a]] += (ratio - 1.0) * m[a];
+            }
+        }
+    }
+    let mut spring_k = vec![0.0; n];
+    for s in &model.springs {
+        let k = s.stiffness_n_per_m.iter().fold(0.0f64, |m, &k| m.max(k));
+        spring_k[s.node_a] += k;
+        if let Some(b) = s.node_b {
+            spring_k[b] += k;
+        }
+    }
+    let need = |m: f64, required: f64| (required - m).max(0.0);
+    for i in 0..n {
+        if spring_k[i] > 0.0 {
+            let m = model.nodal_mass_kg[i] + added[i];
+            added[i] += need(m, 2.0 * spring_k[i] * (dt_s / 1.8).powi(2));
+        }
+    }
+    let k_max = pair
+        .face_stiffness_n_per_m
+        .iter()
+        .fold(0.0f64, |m, &k| m.max(k));
+    let contact_mass = k_max * (dt_s / 0.9).powi(2);
+    for &s in &pair.slaves {
+        let m = model.nodal_mass_kg[s] + added[s];
+        added[s] += need(m, contact_mass);
+    }
+    for f in &pair.faces {
+        for &v in f {
+            let m = model.nodal_mass_kg[v] + added[v];
+            added[v] += need(m, 4.0 * contact_mass);
+        }
+    }
+    added
 }
 
 fn dist2(a: P3, b: P3) -> f64 {
@@ -499,13 +576,14 @@ fn deformation_velocity(
 }
 
 /// Wheel vibration columns of `histories.csv`.
-pub const VIBRATION_COLUMNS: [&str; 6] = [
+pub const VIBRATION_COLUMNS: [&str; 7] = [
     "lateral_velocity_m_per_s",
     "vertical_velocity_m_per_s",
     "longitudinal_velocity_m_per_s",
     "rim_mean_lateral_velocity_m_per_s",
     "rim_mean_vertical_velocity_m_per_s",
     "rim_mean_longitudinal_velocity_m_per_s",
+    "wheel_spin_rad_per_s",
 ];
 
 impl AuxForces for RollingContact {
@@ -538,7 +616,9 @@ impl AuxForces for RollingContact {
             }
         }
         // Lateral = y, vertical = z, longitudinal = x.
-        for x in [point[1], point[2], point[0], mean[1], mean[2], mean[0]] {
+        for x in [
+            point[1], point[2], point[0], mean[1], mean[2], mean[0], omega,
+        ] {
             row.push(',');
             push_num(row, x);
         }
@@ -633,6 +713,14 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
     m.contact.out_dir = opts.out_dir.clone();
     let mut preload = None;
     if !opts.resume {
+        if let Some(dt) = case.preload.time_step_s {
+            m.solver.set_inertia_scaling(&m.preload_added_mass_kg, dt)?;
+        }
+        // Frictionless preload: while the wheel settles its rim turns a little and the contact
+        // points creep sideways; with friction that path would leave the lateral stick forces
+        // saturated at the bound before the wheel has even started rolling.
+        let friction = m.contact.pair.friction;
+        m.contact.pair.friction = crate::contact::FrictionLaw::Coulomb { mu: 0.0 };
         let report = relax(
             &mut m.solver,
             &mut m.contact,
@@ -643,7 +731,14 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
                 require_convergence: false,
                 ..Default::default()
             },
-        )?;
+        );
+        m.solver.clear_inertia_scaling();
+        m.contact.pair.friction = friction;
+        for st in m.contact.pair.state.iter_mut() {
+            st.tangential_force_n = [0.0; 3];
+            st.mu = friction.mu(0.0);
+        }
+        let report = report?;
         if opts.progress {
             eprintln!(
                 "preload: {} steps, relative residual {:.2e}{}",
@@ -659,9 +754,14 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         preload = Some(report);
         // Rolling: v = V e_x + (V / R) e_y x (x - centre) on the wheelset; the sprung mass
         // moves with it.
+        // The preloaded wheel has sunk into its track: take the centre from the hub nodes and
+        // the rolling radius from it to the loaded contact nodes (force-weighted), so that the
+        // contact points start without slip.
         let speed = case.speed_m_per_s();
-        let omega = [0.0, speed / m.info.rolling_radius_m, 0.0];
-        let centre = m.info.wheel_centre_m;
+        let (centre, radius) = loaded_centre_and_radius(&m);
+        m.info.rolling_radius_m = radius;
+        m.info.wheel_centre_m = centre;
+        let omega = [0.0, speed / radius, 0.0];
         let nodes = m.wheelset_nodes.clone();
         m.solver
             .set_initial_velocity(Some(&nodes), [speed, 0.0, 0.0], omega, centre);
@@ -673,7 +773,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         end_time_s: case.end_time_s,
         sample_interval_s,
         energy_every_samples: 10,
-        probes: Vec::new(),
+        probes: centre_probes(&m.contact.hub_nodes),
         snapshot_times_s: case.output.vtu_times_s.clone(),
         checkpoint_every_steps: case.output.checkpoint_every_steps,
         out_dir: opts.out_dir.clone(),
@@ -706,6 +806,55 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         serde_json::to_string_pretty(&record).map_err(|e| Error::Numerical(e.to_string()))?;
     std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
     Ok(record)
+}
+
+/// Current wheel centre (mean of the hub bore nodes) and the force-weighted distance from it to
+/// the loaded contact nodes (the nominal radius when nothing is in contact).
+fn loaded_centre_and_radius(m: &RollingModel) -> (P3, f64) {
+    let nodes = &m.solver.model.mesh.nodes;
+    let u = &m.solver.u;
+    let hub = &m.contact.hub_nodes;
+    let mut c = [0.0; 3];
+    for &h in hub {
+        for i in 0..3 {
+            c[i] += (nodes[h][i] + u[h][i]) / hub.len() as f64;
+        }
+    }
+    let (mut weighted, mut total) = (0.0, 0.0);
+    for (k, st) in m.contact.pair.state.iter().enumerate() {
+        if st.active {
+            let n = m.contact.pair.slaves[k];
+            let dx = nodes[n][0] + u[n][0] - c[0];
+            let dz = nodes[n][2] + u[n][2] - c[2];
+            weighted += st.normal_force_n * (dx * dx + dz * dz).sqrt();
+            total += st.normal_force_n;
+        }
+    }
+    let radius = if total > 0.0 {
+        weighted / total
+    } else {
+        m.info.rolling_radius_m
+    };
+    (c, radius)
+}
+
+/// Wheel centre (mean of the hub bore nodes) displacement and velocity, x / y / z.
+fn centre_probes(hub: &[usize]) -> Vec<HistoryProbe> {
+    let mut out = Vec::new();
+    for (quantity, name, unit) in [
+        (Quantity::Displacement, "displacement", "m"),
+        (Quantity::Velocity, "velocity", "m_per_s"),
+    ] {
+        for (d, axis) in ["x", "y", "z"].iter().enumerate() {
+            out.push(HistoryProbe {
+                column: format!("wheel_centre_{axis}_{name}_{unit}"),
+                nodes: hub.to_vec(),
+                quantity,
+                direction: d,
+            });
+        }
+    }
+    out
 }
 
 fn run_resumed(m: &mut RollingModel, run_opts: &RunOptions) -> Result<RunSummary> {
