@@ -143,6 +143,8 @@ pub struct ContactPair {
     pub slaves: Vec<usize>,
     /// Tributary area per slave (m^2), for pressures.
     pub slave_area_m2: Vec<f64>,
+    /// Largest penalty per slave (N/m); infinite unless capped for the time step.
+    pub slave_stiffness_cap: Vec<f64>,
     /// Master faces (outward node order: the normal points out of the master body).
     pub faces: Vec<[usize; 4]>,
     /// Penalty stiffness per face (N/m).
@@ -153,6 +155,7 @@ pub struct ContactPair {
     pub state: Vec<SlaveState>,
     reference: Vec<P3>,
     search_margin_m: f64,
+    rebuild_distance_m: f64,
     grid: BucketGrid,
     positions_at_build: Vec<P3>,
     forces: Vec<(P3, [f64; 4], u32)>,
@@ -166,6 +169,10 @@ struct BucketGrid {
     dims: [usize; 3],
     start: Vec<u32>,
     items: Vec<u32>,
+    /// Per face: its bounding box at the last build, widened by the rebuild distance and the
+    /// penetration depth searched; a slave outside it cannot be over the face.
+    face_lo: Vec<P3>,
+    face_hi: Vec<P3>,
 }
 
 impl BucketGrid {
@@ -273,10 +280,20 @@ impl ContactPair {
                 crate::mesh::hex::face_area(p[0], p[1], p[2], p[3]).sqrt()
             })
             .fold(0.0, f64::max);
+        let mut face_sizes: Vec<f64> = faces
+            .iter()
+            .map(|f| {
+                let p = f.map(|n| mesh.nodes[n]);
+                crate::mesh::hex::face_area(p[0], p[1], p[2], p[3]).sqrt()
+            })
+            .collect();
+        face_sizes.sort_by(f64::total_cmp);
+        let median_face_size = face_sizes[face_sizes.len() / 2];
         let n_slaves = slaves.len();
         let mut pair = ContactPair {
             name: name.to_string(),
             slaves,
+            slave_stiffness_cap: vec![f64::INFINITY; n_slaves],
             slave_area_m2: slave_area,
             faces,
             face_stiffness_n_per_m: stiffness,
@@ -284,6 +301,7 @@ impl ContactPair {
             state: vec![SlaveState::default(); n_slaves],
             reference: mesh.nodes.clone(),
             search_margin_m: face_size,
+            rebuild_distance_m: 0.25 * median_face_size,
             grid: BucketGrid::default(),
             positions_at_build: Vec::new(),
             forces: vec![([0.0; 3], [0.0; 4], u32::MAX); n_slaves],
@@ -293,24 +311,46 @@ impl ContactPair {
         Ok(pair)
     }
 
-    /// The stable-step bound `min sqrt(m_s / k)` over slaves (with the stiffest face), given the
-    /// engine's effective nodal masses.
+    /// The stable-step bound `min sqrt(m_s / k)` over slaves (with the stiffest face, or the
+    /// slave's cap), given the engine's effective nodal masses.
     pub fn time_step_bound_s(&self, mass_kg: &[f64]) -> f64 {
         let k_max = self
             .face_stiffness_n_per_m
             .iter()
             .fold(0.0f64, |m, &k| m.max(k));
-        let m_min = self
-            .slaves
+        self.slaves
             .iter()
-            .map(|&n| mass_kg[n])
-            .fold(f64::INFINITY, f64::min);
-        (m_min / k_max).sqrt()
+            .enumerate()
+            .map(|(k, &n)| (mass_kg[n] / k_max.min(self.slave_stiffness_cap[k])).sqrt())
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Caps each slave's penalty at `m_s / dt^2` so that the contact never asks for a step
+    /// below `dt_s` (the idea of LS-DYNA's soft constraint, SOFT = 1: light slave nodes on
+    /// stiff thin master segments would otherwise control the step of the whole model).
+    /// Returns how many slaves were capped.
+    pub fn cap_stiffness_for_step(&mut self, mass_kg: &[f64], dt_s: f64) -> usize {
+        let k_max = self
+            .face_stiffness_n_per_m
+            .iter()
+            .fold(0.0f64, |m, &k| m.max(k));
+        let mut capped = 0;
+        for (k, &n) in self.slaves.iter().enumerate() {
+            let cap = mass_kg[n] / (dt_s * dt_s);
+            self.slave_stiffness_cap[k] = cap;
+            if cap < k_max {
+                capped += 1;
+            }
+        }
+        capped
     }
 
     fn build_grid(&mut self, u: &[P3]) {
         let pos = |n: usize| -> P3 { [0, 1, 2].map(|i| self.reference[n][i] + u[n][i]) };
-        let margin = self.search_margin_m;
+        // Widening of each face box: half the search margin (how far faces may move before a
+        // rebuild) plus the deepest penetration searched below that face (its own size).
+        let margin = self.rebuild_distance_m();
+        let mut sizes: Vec<f64> = Vec::with_capacity(self.faces.len());
         let boxes: Vec<(P3, P3)> = self
             .faces
             .iter()
@@ -320,11 +360,14 @@ impl ContactPair {
                 for &n in f {
                     let p = pos(n);
                     for d in 0..3 {
-                        lo[d] = lo[d].min(p[d] - margin);
-                        hi[d] = hi[d].max(p[d] + margin);
+                        lo[d] = lo[d].min(p[d]);
+                        hi[d] = hi[d].max(p[d]);
                     }
                 }
-                (lo, hi)
+                let size = (0..3).map(|d| hi[d] - lo[d]).fold(0.0, f64::max);
+                sizes.push(size);
+                let widen = margin + 0.5 * size;
+                (lo.map(|x| x - widen), hi.map(|x| x + widen))
             })
             .collect();
         let mut lo = [f64::INFINITY; 3];
@@ -335,8 +378,21 @@ impl ContactPair {
                 hi[d] = hi[d].max(b[d]);
             }
         }
-        let cell = 2.0 * margin.max(1e-6);
-        let dims = [0, 1, 2].map(|d| (((hi[d] - lo[d]) / cell).ceil() as usize).clamp(1, 4096));
+        // Cells of about twice the median face size (faces spanning several cells are listed in
+        // each), at most ~4 M cells.
+        sizes.sort_by(f64::total_cmp);
+        let median = sizes.get(sizes.len() / 2).copied().unwrap_or(1e-3);
+        let mut cell = (2.0 * median).max(1e-6);
+        let extent = [0, 1, 2].map(|d| (hi[d] - lo[d]).max(0.0));
+        while extent
+            .iter()
+            .map(|e| (e / cell).ceil().max(1.0))
+            .product::<f64>()
+            > 4.0e6
+        {
+            cell *= 1.5;
+        }
+        let dims = [0, 1, 2].map(|d| ((extent[d] / cell).ceil() as usize).clamp(1, 1 << 20));
         let n_cells = dims[0] * dims[1] * dims[2];
         let cell_range = |a: f64, b: f64, d: usize| -> (usize, usize) {
             let i0 = (((a - lo[d]) / cell).floor().max(0.0) as usize).min(dims[d] - 1);
@@ -374,12 +430,20 @@ impl ContactPair {
             dims,
             start: counts,
             items,
+            face_lo: boxes.iter().map(|b| b.0).collect(),
+            face_hi: boxes.iter().map(|b| b.1).collect(),
         };
         self.positions_at_build = (0..self.reference.len()).map(pos).collect();
     }
 
+    /// How far a master node may move before the grid is rebuilt: a quarter of the median
+    /// face size (set at the first build).
+    fn rebuild_distance_m(&self) -> f64 {
+        self.rebuild_distance_m
+    }
+
     fn needs_rebuild(&self, u: &[P3]) -> bool {
-        let limit = 0.5 * self.search_margin_m;
+        let limit = self.rebuild_distance_m();
         let limit2 = limit * limit;
         // Only the master faces are binned; slaves look up the cell of their current position,
         // so a rolling wheel's slaves never force a rebuild.
@@ -420,12 +484,25 @@ impl AuxForces for ContactPair {
             let xs = pos(s);
             let mut best: Option<(f64, u32, [f64; 4], P3)> = None;
             for &fi in self.grid.candidates(xs) {
+                let (blo, bhi) = (
+                    self.grid.face_lo[fi as usize],
+                    self.grid.face_hi[fi as usize],
+                );
+                if (0..3).any(|d| xs[d] < blo[d] || xs[d] > bhi[d]) {
+                    continue;
+                }
                 let f = self.faces[fi as usize];
                 let p = f.map(pos);
-                let (_, _, w, _) = project_on_face(&p, xs);
                 let n = crate::mesh::hex::face_normal(p[0], p[1], p[2], p[3]);
                 let len = dot(n, n).sqrt();
                 let n = [n[0] / len, n[1] / len, n[2] / len];
+                // Cheap plane test first: a node above the face's mean plane (beyond 5 % of
+                // the face size, for warped faces) is not in contact with it.
+                let centroid = [0, 1, 2].map(|d| 0.25 * (p[0][d] + p[1][d] + p[2][d] + p[3][d]));
+                if dot(sub(xs, centroid), n) > 0.05 * len.sqrt() {
+                    continue;
+                }
+                let (_, _, w, _) = project_on_face(&p, xs);
                 let xp = [0, 1, 2]
                     .map(|d| w[0] * p[0][d] + w[1] * p[1][d] + w[2] * p[2][d] + w[3] * p[3][d]);
                 // The projection is clamped to the face: a node beside the face (not over it)
@@ -452,7 +529,7 @@ impl AuxForces for ContactPair {
                 self.forces[k] = ([0.0; 3], [0.0; 4], u32::MAX);
                 continue;
             };
-            let kf = self.face_stiffness_n_per_m[fi as usize];
+            let kf = self.face_stiffness_n_per_m[fi as usize].min(self.slave_stiffness_cap[k]);
             let f_n = -kf * gap;
             // Tangential movement of the slave relative to the master point in the last step.
             let f = self.faces[fi as usize];

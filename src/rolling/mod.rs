@@ -71,6 +71,8 @@ pub struct ModelInfo {
     pub rim_node: usize,
     /// Inertia added for the preload at its own step (kg), if any.
     pub preload_added_mass_kg: f64,
+    /// Slaves whose penalty was capped at `m / dt^2` (see `ContactPair::cap_stiffness_for_step`).
+    pub contact_slaves_with_capped_penalty: usize,
 }
 
 /// A built rolling model, ready to run.
@@ -280,6 +282,10 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
     })?;
     let wheelset_mass: f64 = wheelset_nodes.iter().map(|&n| model.nodal_mass_kg[n]).sum();
     let static_wheel_load_n = (wheelset_mass + case.sprung_mass_kg) * G_M_PER_S2;
+    // The penalty of light slaves is capped so that contact does not lower the elements' step.
+    let mut pair = pair;
+    let element_step_s = smallest_element_transit_s(&model);
+    let capped = pair.cap_stiffness_for_step(&model.nodal_mass_kg, element_step_s);
     let bound = pair.time_step_bound_s(&model.nodal_mass_kg);
     model.register_time_step_bound("contact penalty", bound);
     let preload_added_mass_kg = match case.preload.time_step_s {
@@ -302,6 +308,7 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         static_wheel_load_n,
         rim_node,
         preload_added_mass_kg: preload_added_mass_kg.iter().sum(),
+        contact_slaves_with_capped_penalty: capped,
     };
     let contact = RollingContact {
         pair,
@@ -322,6 +329,19 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         info,
         preload_added_mass_kg,
     })
+}
+
+/// The smallest element transit `L / c` of the model (s), the elements' own stable step.
+fn smallest_element_transit_s(model: &Model) -> f64 {
+    let mesh = &model.mesh;
+    mesh.elements
+        .iter()
+        .enumerate()
+        .map(|(e, conn)| {
+            let x: [P3; 8] = std::array::from_fn(|a| mesh.nodes[conn[a]]);
+            crate::mesh::hex::characteristic_length(&x) / model.element_wave_speed_m_per_s[e]
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Inertia to add per node so that the preload can run at step `dt_s` (with the engine's 0.9
