@@ -14,6 +14,7 @@ pub mod identify;
 pub mod input;
 pub mod kalker;
 pub mod mesh;
+pub mod pipeline;
 pub mod report;
 pub mod rolling;
 pub mod scenario;

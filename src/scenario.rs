@@ -153,6 +153,14 @@ impl LoadedScenario {
         Self::finish(scenario, wheel, source_name)
     }
 
+    /// A scenario given as JSON text with its wheel as JSON text (for embedded inputs).
+    pub fn from_texts(scenario_json: &str, wheel_json: &str, source_name: &str) -> Result<Self> {
+        let scenario: Scenario = parse_json(scenario_json, source_name)?;
+        let wheel: WheelSpec = parse_json(wheel_json, &format!("{source_name} (wheel)"))?;
+        wheel.validate(&format!("{source_name} (wheel)"))?;
+        Self::finish(scenario, wheel, source_name.to_string())
+    }
+
     /// The embedded default (demo) scenario.
     pub fn embedded_default() -> Result<Self> {
         let source_name = "embedded default scenario (data/scenarios/demo.json)".to_string();

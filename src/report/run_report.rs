@@ -375,10 +375,12 @@ pub fn build_report(run_dirs: &[PathBuf], out_dir: &Path, title: &str) -> Result
                 .headers
                 .iter()
                 .zip(&table.columns)
-                .filter(|(h, _)| h.as_str() != "time_s")
+                // Forces only (columns in newtons); counts and ratios have other units.
+                .filter(|(h, _)| h.ends_with("_n"))
                 .enumerate()
                 .map(|(k, (h, c))| {
-                    Series::line(h, t.clone(), c.iter().map(|v| v * 1e-3).collect(), k)
+                    let label = h.trim_end_matches("_n").replace('_', " ");
+                    Series::line(&label, t.clone(), c.iter().map(|v| v * 1e-3).collect(), k)
                 })
                 .collect();
             let stem = format!("contact_forces_{}", r.name);

@@ -327,6 +327,28 @@ impl RollingCase {
     }
 }
 
+/// The default-run case (`data/scenarios/case3-quick.json`) and its model, embedded.
+pub const EMBEDDED_QUICK_CASE: &str = include_str!("../../data/scenarios/case3-quick.json");
+/// The model scenario of the default-run case.
+pub const EMBEDDED_QUICK_SCENARIO: &str = include_str!("../../data/scenarios/quick.json");
+
+/// The embedded default-run case: paper case 3 on the quick meshes.
+pub fn embedded_quick_case() -> Result<LoadedCase> {
+    let source = "embedded default case (data/scenarios/case3-quick.json)";
+    let case: RollingCase = crate::input::parse_json(EMBEDDED_QUICK_CASE, source)?;
+    case.validate(source)?;
+    let scenario = LoadedScenario::from_texts(
+        EMBEDDED_QUICK_SCENARIO,
+        crate::scenario::EMBEDDED_DEFAULT_WHEEL,
+        "embedded quick scenario (data/scenarios/quick.json)",
+    )?;
+    Ok(LoadedCase {
+        case,
+        scenario,
+        source: PathBuf::from(source),
+    })
+}
+
 /// Reads and validates a case and the model scenario it names.
 pub fn load_case(path: &Path) -> Result<LoadedCase> {
     let source = path.display().to_string();

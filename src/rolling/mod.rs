@@ -41,7 +41,7 @@ use crate::explicit::{AuxForces, Curve, ElasticMaterial, Formulation, Model, Sol
 use crate::mesh::{material, P3};
 use crate::{Error, Result};
 
-pub use case::{load_case, LoadedCase, RollingCase};
+pub use case::{embedded_quick_case, load_case, LoadedCase, RollingCase};
 
 /// Standard gravity (m/s^2).
 const G_M_PER_S2: f64 = 9.81;

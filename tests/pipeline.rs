@@ -1,0 +1,60 @@
+//! The one-command pipeline at a reduced size (the tiny case, 2 ms): it completes and its
+//! report holds every section. The full default run (`cargo run --release`) is the ignored
+//! test below.
+use std::path::Path;
+
+use squeal::pipeline::{run_pipeline, PipelineOptions};
+use squeal::rolling::load_case;
+
+#[test]
+fn reduced_default_run_writes_a_complete_report() {
+    let case = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    let dir = std::env::temp_dir().join(format!("squeal_pipeline_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let summary = run_pipeline(
+        &case,
+        None,
+        &PipelineOptions {
+            out_dir: dir.clone(),
+            end_time_s: None,
+            progress: false,
+        },
+    )
+    .unwrap();
+    let md = std::fs::read_to_string(dir.join("index.md")).unwrap();
+    for section in [
+        "Wheel vibration",
+        "Wavelet power",
+        "Contact forces",
+        "Listen",
+        "Run metadata",
+    ] {
+        assert!(
+            md.contains(section),
+            "section {section} missing: {:?}",
+            summary.sections
+        );
+    }
+    assert!(summary.report_html.exists());
+    assert!(summary.run_dir.join("contact_forces.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The full default run, as `cargo run --release` does it (minutes).
+#[test]
+#[ignore]
+fn full_default_run() {
+    let case = squeal::rolling::embedded_quick_case().unwrap();
+    let dir = std::env::temp_dir().join(format!("squeal_default_{}", std::process::id()));
+    let summary = run_pipeline(
+        &case,
+        None,
+        &PipelineOptions {
+            out_dir: dir.clone(),
+            end_time_s: None,
+            progress: false,
+        },
+    )
+    .unwrap();
+    assert!(summary.report_html.exists());
+}
