@@ -12,6 +12,9 @@ use crate::report::run_report::build_report;
 use crate::rolling::{simulate, LoadedCase, SimulateOptions};
 use crate::{Error, Result};
 
+/// A stage that writes `modes.json` into the run directory it is given.
+pub type ModesStage = dyn Fn(&Path) -> Result<()>;
+
 /// Options of [`run_pipeline`].
 #[derive(Clone, Debug)]
 pub struct PipelineOptions {
@@ -40,7 +43,7 @@ pub struct PipelineSummary {
 /// case and the report.
 pub fn run_pipeline(
     case: &LoadedCase,
-    modes: Option<&dyn Fn(&Path) -> Result<()>>,
+    modes: Option<&ModesStage>,
     opts: &PipelineOptions,
 ) -> Result<PipelineSummary> {
     let run_dir = opts.out_dir.join("runs").join(&case.case.name);

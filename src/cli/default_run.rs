@@ -45,8 +45,7 @@ pub fn run(out_dir: &Path) -> Result<()> {
 }
 
 /// The wheel-modes stage of the default pipeline (None while no modal solver is built in).
-#[allow(clippy::type_complexity)]
-fn modes_stage() -> Option<Box<dyn Fn(&Path) -> Result<()>>> {
+fn modes_stage() -> Option<Box<squeal::pipeline::ModesStage>> {
     None
 }
 
