@@ -30,6 +30,8 @@ enum Command {
     Wav(cli::signal::WavArgs),
     /// Kalker's rolling contact theory: Hertz, creep forces, force-prescribed creepages.
     Kalker(cli::kalker::KalkerArgs),
+    /// Wheel modes by the axisymmetric (Fourier-harmonic) solver: modes.json / modes.csv.
+    Axisym(cli::axisym::AxisymArgs),
     /// Benchmarks that print the README's performance figures.
     Bench(cli::bench::BenchArgs),
 }
@@ -52,6 +54,7 @@ fn main() {
         Some(Command::Wav(args)) => cli::signal::run_wav(args),
         Some(Command::Kalker(args)) => cli::kalker::run(args),
         Some(Command::Bench(args)) => cli::bench::run(args),
+        Some(Command::Axisym(args)) => cli::axisym::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");
