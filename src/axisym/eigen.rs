@@ -187,6 +187,23 @@ impl PencilMatrices {
         self.sym_mul(&self.m_val, x, y)
     }
 
+    /// x^T M x split by the component (0, 1, 2) that owns each dof (`owner`, permuted
+    /// numbering); exact when M couples only dofs of one component. One pass over M.
+    pub fn component_energies(&self, x: &[f64], owner: &[usize]) -> [f64; 3] {
+        let mut e = [0.0; 3];
+        for j in 0..self.n {
+            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                let i = self.row_idx[p];
+                let c = owner[j];
+                if owner[i] == c && c < 3 {
+                    let v = self.m_val[p] * x[i] * x[j];
+                    e[c] += if i == j { v } else { 2.0 * v };
+                }
+            }
+        }
+        e
+    }
+
     /// Vector in the permuted numbering -> original numbering.
     pub fn unpermute(&self, x: &[f64]) -> Vec<f64> {
         (0..self.n).map(|old| x[self.perm_inv[old]]).collect()
@@ -253,13 +270,19 @@ impl PencilMatrices {
 impl ShiftedFactor<'_> {
     /// Solve (K - sigma M) x = b in place (permuted numbering).
     pub fn solve_in_place(&self, b: &mut [f64]) {
-        let n = b.len();
+        self.solve_block_in_place(b, 1)
+    }
+
+    /// Solve for `ncols` right-hand sides stored column-major in `b` (permuted numbering).
+    pub fn solve_block_in_place(&self, b: &mut [f64], ncols: usize) {
+        let n = self.pencil.n;
+        assert_eq!(b.len(), n * ncols);
         let ldlt = simplicial::SimplicialLdltRef::<'_, usize, f64>::new(
             &self.pencil.symbolic,
             &self.l_values,
         );
-        let mut mem = MemBuffer::new(self.pencil.symbolic.solve_in_place_scratch::<f64>(1));
-        let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
+        let mut mem = MemBuffer::new(self.pencil.symbolic.solve_in_place_scratch::<f64>(ncols));
+        let rhs = MatMut::from_column_major_slice_mut(b, n, ncols);
         ldlt.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, MemStack::new(&mut mem));
     }
 }
@@ -280,12 +303,16 @@ fn polish(
     if k == 0 {
         return Ok((Vec::new(), Vec::new()));
     }
+    // All k right-hand sides in one column-major block: one pass over the factor.
+    let mut block = vec![0.0; n * k];
+    for (xi, col) in x.iter().zip(block.chunks_exact_mut(n)) {
+        p.m_mul(xi, col);
+    }
+    fac.solve_block_in_place(&mut block, k);
     let mut y: Vec<Vec<f64>> = Vec::with_capacity(k);
     let mut tmp = vec![0.0; n];
-    for xi in x {
-        p.m_mul(xi, &mut tmp);
-        let mut w = tmp.clone();
-        fac.solve_in_place(&mut w);
+    for col in block.chunks_exact(n) {
+        let mut w = col.to_vec();
         p.m_mul(&w, &mut tmp);
         let nm = m_dot(&tmp, &w).sqrt();
         w.iter_mut().for_each(|v| *v /= nm);
@@ -374,9 +401,24 @@ pub struct EigenResult {
     pub lanczos_steps: usize,
 }
 
-/// Euclidean dot product (with `M x` as one argument: the M inner product).
-fn m_dot(mx: &[f64], y: &[f64]) -> f64 {
-    mx.iter().zip(y).map(|(a, b)| a * b).sum()
+/// Euclidean dot product (with `M x` as one argument: the M inner product). Eight partial
+/// sums so that the compiler can vectorise (a single running sum is latency-bound, and the
+/// full reorthogonalisation is made of these).
+pub fn m_dot(mx: &[f64], y: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 8];
+    let (a8, b8) = (mx.chunks_exact(8), y.chunks_exact(8));
+    let tail: f64 = a8
+        .remainder()
+        .iter()
+        .zip(b8.remainder())
+        .map(|(a, b)| a * b)
+        .sum();
+    for (a, b) in a8.zip(b8) {
+        for k in 0..8 {
+            acc[k] += a[k] * b[k];
+        }
+    }
+    acc.iter().sum::<f64>() + tail
 }
 
 /// Deterministic pseudo-random start vector (xorshift), so results repeat exactly.
@@ -395,10 +437,13 @@ fn start_vector(n: usize, seed: u64) -> Vec<f64> {
 /// All eigenpairs with lambda < `lambda_max`.
 pub fn solve_below(p: &PencilMatrices, s: &EigenSettings) -> Result<EigenResult> {
     let n = p.dim();
+    let tp = std::time::Instant::now();
     let sturm = p.factor(s.lambda_max)?;
+    let t_sturm = tp.elapsed().as_secs_f64();
     let wanted = sturm.negative_pivots;
     drop(sturm);
     let fac = p.factor(s.sigma)?;
+    let t_fac = tp.elapsed().as_secs_f64();
     if fac.negative_pivots != 0 {
         return Err(Error::Numerical(format!(
             "axisymmetric eigen solver: K - sigma M is not positive definite at sigma = {:.3e} \
@@ -566,7 +611,16 @@ pub fn solve_below(p: &PencilMatrices, s: &EigenSettings) -> Result<EigenResult>
             wanted
         )));
     }
+    let t_lan = tp.elapsed().as_secs_f64();
     let (values, vectors) = polish(p, &fac, &vectors)?;
+    if std::env::var_os("SQUEAL_AXISYM_PROFILE").is_some() {
+        eprintln!(
+            "sturm {t_sturm:.3} factor {:.3} lanczos {:.3} polish {:.3}",
+            t_fac - t_sturm,
+            t_lan - t_fac,
+            tp.elapsed().as_secs_f64() - t_lan
+        );
+    }
     let mut order: Vec<usize> = (0..values.len()).collect();
     order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
     Ok(EigenResult {
