@@ -66,7 +66,12 @@ fn annular_plate_matches_kirchhoff() {
         for (k, &l2) in row.iter().enumerate() {
             let f_ref = plate_hz(l2, a, h);
             let e = rel(fe[k], f_ref);
-            println!("n={n} k={k}: FE {:.2} Hz, Kirchhoff {:.2} Hz, {:+.3} %", fe[k], f_ref, 100.0 * e);
+            println!(
+                "n={n} k={k}: FE {:.2} Hz, Kirchhoff {:.2} Hz, {:+.3} %",
+                fe[k],
+                f_ref,
+                100.0 * e
+            );
             assert!(e.abs() < 0.02, "n={n} root {k}: {e}");
         }
         let first = res
@@ -96,7 +101,13 @@ fn solid_plate_matches_kirchhoff_and_labels() {
     let fmax = plate_hz(25.0, a, h);
     let res = axisym::solve(&model, &opts(0..=4, fmax)).unwrap();
     // (nodal diameters, nodal circles, lambda^2)
-    let cases = [(2, 0, 5.3583), (0, 1, 9.0031), (3, 0, 12.4390), (1, 1, 20.4746), (4, 0, 21.8352)];
+    let cases = [
+        (2, 0, 5.3583),
+        (0, 1, 9.0031),
+        (3, 0, 12.4390),
+        (1, 1, 20.4746),
+        (4, 0, 21.8352),
+    ];
     let axial: Vec<_> = res
         .modes
         .iter()
@@ -106,7 +117,12 @@ fn solid_plate_matches_kirchhoff_and_labels() {
     for (m, &(n, c, l2)) in axial.iter().zip(&cases) {
         let f_ref = plate_hz(l2, a, h);
         let e = rel(m.frequency_hz, f_ref);
-        println!("({c},{n}) FE {:.2} Hz, Kirchhoff {:.2} Hz, {:+.3} %", m.frequency_hz, f_ref, 100.0 * e);
+        println!(
+            "({c},{n}) FE {:.2} Hz, Kirchhoff {:.2} Hz, {:+.3} %",
+            m.frequency_hz,
+            f_ref,
+            100.0 * e
+        );
         assert!(e.abs() < 0.02);
         assert_eq!((m.nodal_diameters, m.nodal_circles), (n, c));
         assert_eq!(m.mode_ref().label(), format!("({c},{n})"));
@@ -114,7 +130,11 @@ fn solid_plate_matches_kirchhoff_and_labels() {
     // Free body: rigid modes at n = 0 (axial translation, rotation about the axis) and n = 1
     // (translation across the axis, tilt), two each; none elsewhere.
     for n in 0..=4u32 {
-        let rigid = res.modes.iter().filter(|m| m.harmonic == n && m.is_rigid()).count();
+        let rigid = res
+            .modes
+            .iter()
+            .filter(|m| m.harmonic == n && m.is_rigid())
+            .count();
         assert_eq!(rigid, if n <= 1 { 2 } else { 0 }, "n = {n}");
     }
 }
@@ -183,18 +203,33 @@ fn refinement_decreases_frequencies_monotonically() {
 /// rigid modes.
 #[test]
 fn default_wheel_modes() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/wheels/ns_intercity_920.json");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/data/wheels/ns_intercity_920.json"
+    );
     let spec: WheelSpec = squeal::input::read_json(std::path::Path::new(path)).unwrap();
     let model = AxisymModel::from_wheel(&spec, WheelModelOptions::default()).unwrap();
     let res = axisym::solve(&model, &AxisymOptions::default()).unwrap();
-    println!("n = 0..12 below 10 kHz: {} modes in {:.3} s", res.modes.len(), res.seconds);
+    println!(
+        "n = 0..12 below 10 kHz: {} modes in {:.3} s",
+        res.modes.len(),
+        res.seconds
+    );
     for s in &res.harmonics {
         println!("{s:?}");
-        let count = res.modes.iter().filter(|m| m.harmonic == s.harmonic).count();
+        let count = res
+            .modes
+            .iter()
+            .filter(|m| m.harmonic == s.harmonic)
+            .count();
         assert_eq!(count, s.sturm_count);
     }
     for n in 0..=12u32 {
-        let rigid = res.modes.iter().filter(|m| m.harmonic == n && m.is_rigid()).count();
+        let rigid = res
+            .modes
+            .iter()
+            .filter(|m| m.harmonic == n && m.is_rigid())
+            .count();
         assert_eq!(rigid, if n <= 1 { 2 } else { 0 }, "n = {n}");
     }
     let axial0 = |n: u32| {
@@ -217,6 +252,9 @@ fn default_wheel_modes() {
     )
     .unwrap();
     let resc = axisym::solve(&clamped, &opts(0..=3, 5000.0)).unwrap();
-    assert!(resc.modes.iter().all(|m| !m.is_rigid() && m.residual < 1e-8));
+    assert!(resc
+        .modes
+        .iter()
+        .all(|m| !m.is_rigid() && m.residual < 1e-8));
     let _ = PI;
 }

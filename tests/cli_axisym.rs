@@ -50,7 +50,11 @@ fn writes_modes_json_and_csv() {
         dir.to_str().unwrap(),
     ]);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout} {}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{stdout} {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(stdout.contains("modes below 3000 Hz in"), "{stdout}");
     let modes: Vec<squeal::identify::ModeRef> =
         serde_json::from_str(&std::fs::read_to_string(dir.join("modes.json")).unwrap()).unwrap();

@@ -18,6 +18,9 @@
 //!   the accepted count equals that number; exactly repeated eigenvalues (which one Krylov
 //!   sequence can see only once) are found that way.
 
+// Index loops follow the compressed-column layout (col_ptr / row_idx / values side by side).
+#![allow(clippy::needless_range_loop)]
+
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::sparse::linalg::amd;
@@ -88,7 +91,7 @@ impl PencilMatrices {
                 (a.max(b), a.min(b), k, m)
             })
             .collect();
-        entries.sort_unstable_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1)));
+        entries.sort_unstable_by_key(|x| (x.0, x.1));
         let mut pairs = Vec::with_capacity(entries.len());
         let mut k_val = Vec::with_capacity(entries.len());
         let mut m_val = Vec::with_capacity(entries.len());
@@ -226,8 +229,13 @@ impl PencilMatrices {
             .zip(&self.m_val)
             .map(|(k, m)| k - sigma * m)
             .collect();
-        let sym =
-            SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.col_ptr, None, &self.row_idx);
+        let sym = SymbolicSparseColMatRef::new_checked(
+            self.n,
+            self.n,
+            &self.col_ptr,
+            None,
+            &self.row_idx,
+        );
         let a = SparseColMatRef::new(sym, &vals);
         let mut l_values = vec![0.0f64; self.symbolic.len_val()];
         let mut mem = MemBuffer::new(simplicial::factorize_simplicial_numeric_ldlt_scratch::<
@@ -328,17 +336,29 @@ fn polish(
         p.m_mul(yi, &mut b);
         my.push(b);
     }
-    let a = Mat::<f64>::from_fn(k, k, |i, j| 0.5 * (m_dot(&ky[i], &y[j]) + m_dot(&ky[j], &y[i])));
-    let b = Mat::<f64>::from_fn(k, k, |i, j| 0.5 * (m_dot(&my[i], &y[j]) + m_dot(&my[j], &y[i])));
+    let a = Mat::<f64>::from_fn(k, k, |i, j| {
+        0.5 * (m_dot(&ky[i], &y[j]) + m_dot(&ky[j], &y[i]))
+    });
+    let b = Mat::<f64>::from_fn(k, k, |i, j| {
+        0.5 * (m_dot(&my[i], &y[j]) + m_dot(&my[j], &y[i]))
+    });
     let llt = b
         .llt(faer::Side::Lower)
         .map_err(|e| faer_err("Rayleigh-Ritz: Y^T M Y is not positive definite", e))?;
     let l = llt.L().to_owned();
     // C = L^{-1} A L^{-T}.
     let mut c = a.clone();
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), c.as_mut(), Par::Seq);
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+        l.as_ref(),
+        c.as_mut(),
+        Par::Seq,
+    );
     let mut ct = c.transpose().to_owned();
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), ct.as_mut(), Par::Seq);
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+        l.as_ref(),
+        ct.as_mut(),
+        Par::Seq,
+    );
     let c = Mat::<f64>::from_fn(k, k, |i, j| 0.5 * (ct[(i, j)] + ct[(j, i)]));
     let eig = c
         .self_adjoint_eigen(faer::Side::Lower)

@@ -36,6 +36,12 @@
 //! points (exact for the polynomial part of a rectangular Q9, degree 5 per direction) keep the
 //! rational part accurate, and no Gauss point ever lies on the axis.
 
+// Index loops mirror the matrix formulas (B^T D B, N^T N) term by term.
+#![allow(clippy::needless_range_loop)]
+
+/// A 27 x 27 element matrix (9 nodes x (U_r, U_t, U_z)).
+pub type ElementMatrix = [[f64; 27]; 27];
+
 /// Isotropic linear elastic material in SI units.
 #[derive(Clone, Copy, Debug)]
 pub struct Material {
@@ -116,7 +122,7 @@ pub fn element_matrices(
     xy: &[[f64; 2]; 9],
     harmonic: u32,
     mat: &Material,
-) -> Option<([[f64; 27]; 27], [[f64; 27]; 27])> {
+) -> Option<(ElementMatrix, ElementMatrix)> {
     let d = mat.d_matrix();
     let nf = harmonic as f64;
     let c_n = if harmonic == 0 {

@@ -117,10 +117,7 @@ impl Q9Mesh {
     /// Nodes on the axis (r below `1e-9` times the largest radius).
     pub fn axis_nodes(&self) -> Vec<bool> {
         let r_max = self.nodes.iter().fold(0.0f64, |m, p| m.max(p[0]));
-        self.nodes
-            .iter()
-            .map(|p| p[0] <= 1e-9 * r_max)
-            .collect()
+        self.nodes.iter().map(|p| p[0] <= 1e-9 * r_max).collect()
     }
 
     /// Nodes within `tol_m` of the line z = `z_m`.

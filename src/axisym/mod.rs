@@ -333,16 +333,20 @@ pub fn assemble(
 ) -> Result<(eigen::PencilMatrices, DofMap, usize)> {
     let (map, ndof) = dof_map(model, harmonic);
     if ndof == 0 {
-        return Err(Error::Mesh("the section has no free degree of freedom".into()));
+        return Err(Error::Mesh(
+            "the section has no free degree of freedom".into(),
+        ));
     }
-    let mut trip: Vec<(usize, usize, f64, f64)> = Vec::with_capacity(model.mesh.elements.len() * 400);
+    let mut trip: Vec<(usize, usize, f64, f64)> =
+        Vec::with_capacity(model.mesh.elements.len() * 400);
     for (e, conn) in model.mesh.elements.iter().enumerate() {
         let xy: [[f64; 2]; 9] = std::array::from_fn(|k| model.mesh.nodes[conn[k]]);
-        let (ke, me) = element::element_matrices(&xy, harmonic, &model.material).ok_or_else(|| {
-            Error::Mesh(format!(
-                "section element {e} is degenerate or folded (non-positive Jacobian or radius)"
-            ))
-        })?;
+        let (ke, me) =
+            element::element_matrices(&xy, harmonic, &model.material).ok_or_else(|| {
+                Error::Mesh(format!(
+                    "section element {e} is degenerate or folded (non-positive Jacobian or radius)"
+                ))
+            })?;
         for a in 0..27 {
             let Some((ga, ca)) = map[conn[a / 3]][a % 3] else {
                 continue;
@@ -357,7 +361,11 @@ pub fn assemble(
             }
         }
     }
-    Ok((eigen::PencilMatrices::from_triplets(ndof, &trip)?, map, ndof))
+    Ok((
+        eigen::PencilMatrices::from_triplets(ndof, &trip)?,
+        map,
+        ndof,
+    ))
 }
 
 fn norm(x: &[f64]) -> f64 {

@@ -64,7 +64,9 @@ pub fn parse_harmonics(text: &str) -> Result<Vec<u32>> {
             ))
         })?;
         if v > MAX_HARMONIC {
-            return Err(bad(format!("`{text}`: harmonics must be in 0..={MAX_HARMONIC}")));
+            return Err(bad(format!(
+                "`{text}`: harmonics must be in 0..={MAX_HARMONIC}"
+            )));
         }
         Ok(v)
     };
@@ -76,7 +78,9 @@ pub fn parse_harmonics(text: &str) -> Result<Vec<u32>> {
         }
     };
     if a > b {
-        return Err(bad(format!("`{text}`: the range is empty (start {a} > end {b})")));
+        return Err(bad(format!(
+            "`{text}`: the range is empty (start {a} > end {b})"
+        )));
     }
     Ok((a..=b).collect())
 }
