@@ -455,7 +455,16 @@ fn start_vector(n: usize, seed: u64) -> Vec<f64> {
 }
 
 /// All eigenpairs with lambda < `lambda_max`.
-pub fn solve_below(p: &PencilMatrices, s: &EigenSettings) -> Result<EigenResult> {
+///
+/// `known`: exact eigenvectors known beforehand (permuted numbering; here the rigid-body
+/// motions of a free body, K x = 0), locked before the Lanczos runs so that the runs need not
+/// resolve their (repeated) zero eigenvalue. They are M-orthonormalised; those with a
+/// Rayleigh quotient at or above `lambda_max` are ignored.
+pub fn solve_below(
+    p: &PencilMatrices,
+    s: &EigenSettings,
+    known: &[Vec<f64>],
+) -> Result<EigenResult> {
     let n = p.dim();
     let tp = std::time::Instant::now();
     let sturm = p.factor(s.lambda_max)?;
@@ -477,6 +486,31 @@ pub fn solve_below(p: &PencilMatrices, s: &EigenSettings) -> Result<EigenResult>
     let mut steps_total = 0usize;
     let mut round = 0u64;
     let mut tmp = vec![0.0; n];
+    for x in known {
+        let mut y = x.clone();
+        for _ in 0..2 {
+            for (z, mz) in vectors.iter().zip(&locked_m) {
+                let c = m_dot(mz, &y);
+                y.iter_mut().zip(z).for_each(|(a, b)| *a -= c * b);
+            }
+        }
+        let mut my = vec![0.0; n];
+        p.m_mul(&y, &mut my);
+        let nm = m_dot(&my, &y).sqrt();
+        if !(nm > 0.0) || values.len() >= wanted {
+            continue;
+        }
+        y.iter_mut().for_each(|a| *a /= nm);
+        my.iter_mut().for_each(|a| *a /= nm);
+        p.k_mul(&y, &mut tmp);
+        let lambda = m_dot(&tmp, &y);
+        if lambda >= s.lambda_max {
+            continue;
+        }
+        values.push(lambda);
+        vectors.push(y);
+        locked_m.push(my);
+    }
     while values.len() < wanted {
         round += 1;
         if round > 8 {

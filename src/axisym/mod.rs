@@ -372,6 +372,25 @@ fn norm(x: &[f64]) -> f64 {
     x.iter().map(|v| v * v).sum::<f64>().sqrt()
 }
 
+/// Rigid-body motions of harmonic n as nodal (U_r, U_t, U_z) fields (exact null vectors of K
+/// for a free body): n = 0 axial translation (U_z = 1) and rotation about the axis (U_t = r);
+/// n = 1 translation across the axis (U_r = 1, U_t = -1: u_x = 1) and tilt about the
+/// perpendicular axis (U_r = z, U_t = -z, U_z = -r); none for n >= 2.
+fn rigid_motions(model: &AxisymModel, harmonic: u32) -> Vec<Vec<[f64; 3]>> {
+    let nodes = &model.mesh.nodes;
+    match harmonic {
+        0 => vec![
+            nodes.iter().map(|_| [0.0, 0.0, 1.0]).collect(),
+            nodes.iter().map(|p| [0.0, p[0], 0.0]).collect(),
+        ],
+        1 => vec![
+            nodes.iter().map(|_| [1.0, -1.0, 0.0]).collect(),
+            nodes.iter().map(|p| [p[1], -p[1], -p[0]]).collect(),
+        ],
+        _ => Vec::new(),
+    }
+}
+
 /// Solve one harmonic.
 pub fn solve_harmonic(
     model: &AxisymModel,
@@ -394,7 +413,28 @@ pub fn solve_harmonic(
         ritz_tolerance: 1e-12,
     };
     let t_eig = Instant::now();
-    let res = eigen::solve_below(&pencil, &settings)?;
+    let known: Vec<Vec<f64>> = if model.clamped.is_empty() {
+        rigid_motions(model, harmonic)
+            .iter()
+            .map(|field| {
+                let mut x = vec![0.0; ndof];
+                for (i, u) in field.iter().enumerate() {
+                    for c in 0..3 {
+                        if let Some((g, sign)) = map[i][c] {
+                            // A dof shared by U_r and U_t (n = 1 on the axis) takes U_r.
+                            if c == 0 || map[i][0].map(|d| d.0) != Some(g) {
+                                x[g] = sign * u[c];
+                            }
+                        }
+                    }
+                }
+                pencil.permute(&x)
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let res = eigen::solve_below(&pencil, &settings, &known)?;
     let eigen_seconds = t_eig.elapsed().as_secs_f64();
     let k_scale = pencil.max_k_diagonal();
     let n_nodes = model.mesh.node_count();
