@@ -531,7 +531,7 @@ pub fn solve_below(
         let mut beta: Vec<f64> = Vec::new();
         let mut v = start_vector(n, round);
         let mut accepted_this_round = false;
-        let mut next_check = (2 * missing + 10).min(max_steps);
+        let mut next_check = (missing + 10).min(max_steps);
         // Checks in a row at which every wanted Ritz value had converged but no new one had
         // appeared: the sequence has found all it can see (an exactly repeated eigenvalue shows
         // once per Krylov sequence); the next run, deflated, finds the other copies.
@@ -634,7 +634,9 @@ pub fn solve_below(
                     steps_total += j;
                     break;
                 }
-                next_check = (j + (j / 2).max(10)).min(max_steps);
+                // Checks are cheap (a j x j tridiagonal eigen); frequent ones stop the run
+                // soon after the last wanted pair converges.
+                next_check = (j + (j / 8).max(4)).min(max_steps);
             }
             if breakdown {
                 steps_total += j;
