@@ -58,30 +58,22 @@ impl PencilMatrices {
     /// Build from symmetric triplets `(i, j, k, m)` (each (i, j) entry given for i <= j or
     /// both orders; only i <= j is kept, duplicates are summed).
     pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64, f64)]) -> Result<Self> {
-        // Upper pattern in the original numbering, for the ordering.
-        let mut pairs: Vec<(usize, usize)> = triplets
+        let pairs: Vec<(usize, usize)> = triplets
             .iter()
             .filter(|t| t.0 <= t.1)
-            .map(|t| (t.1, t.0))
+            .map(|t| (t.0, t.1))
             .collect();
-        pairs.sort_unstable();
-        pairs.dedup();
-        // Column-major: col = j (first of the sorted pair), rows i <= j.
-        let (col_ptr0, row_idx0) = compress(n, &pairs);
-        let mut perm = vec![0usize; n];
-        let mut perm_inv = vec![0usize; n];
-        {
-            let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr0, None, &row_idx0);
-            let mut mem = MemBuffer::new(amd::order_scratch::<usize>(n, row_idx0.len()));
-            amd::order(
-                &mut perm,
-                &mut perm_inv,
-                sym,
-                amd::Control::default(),
-                MemStack::new(&mut mem),
-            )
-            .map_err(|e| faer_err("ordering", e))?;
-        }
+        let perm_inv = amd_order(n, pairs)?;
+        Self::from_triplets_ordered(n, triplets, perm_inv)
+    }
+
+    /// As [`PencilMatrices::from_triplets`] with a given order `perm_inv[old] = new` (e.g. a
+    /// node-level AMD order expanded to the node's dofs: same quality, a graph 9x smaller).
+    pub fn from_triplets_ordered(
+        n: usize,
+        triplets: &[(usize, usize, f64, f64)],
+        perm_inv: Vec<usize>,
+    ) -> Result<Self> {
         // Permuted upper pattern and values.
         let mut entries: Vec<(usize, usize, f64, f64)> = triplets
             .iter()
@@ -383,6 +375,32 @@ fn polish(
         })
         .collect();
     Ok((values, vectors))
+}
+
+/// Approximate minimum degree order (faer's AMD) of the symmetric pattern given by index
+/// pairs (i, j) (either triangle, duplicates allowed); returns `perm_inv[old] = new`.
+pub fn amd_order(n: usize, pairs: Vec<(usize, usize)>) -> Result<Vec<usize>> {
+    let mut pairs: Vec<(usize, usize)> = pairs
+        .into_iter()
+        .map(|(i, j)| (i.max(j), i.min(j)))
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    // Column-major: col = j (first of the sorted pair), rows i <= j.
+    let (col_ptr, row_idx) = compress(n, &pairs);
+    let mut perm = vec![0usize; n];
+    let mut perm_inv = vec![0usize; n];
+    let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+    let mut mem = MemBuffer::new(amd::order_scratch::<usize>(n, row_idx.len()));
+    amd::order(
+        &mut perm,
+        &mut perm_inv,
+        sym,
+        amd::Control::default(),
+        MemStack::new(&mut mem),
+    )
+    .map_err(|e| faer_err("ordering", e))?;
+    Ok(perm_inv)
 }
 
 /// Compress sorted unique (col, row) pairs into CSC arrays.
