@@ -155,6 +155,24 @@ pub fn run(args: AxisymArgs) -> Result<()> {
             m.residual
         );
     }
+    let zero_circle_axial: Vec<String> = (2..=4u32)
+        .filter_map(|n| {
+            res.modes
+                .iter()
+                .find(|m| {
+                    m.harmonic == n
+                        && m.nodal_circles == 0
+                        && m.family == squeal::identify::ModeFamily::Axial
+                })
+                .map(|m| format!("(0,{n}) {:.1} Hz", m.frequency_hz))
+        })
+        .collect();
+    if !zero_circle_axial.is_empty() {
+        println!(
+            "zero-nodal-circle axial modes: {}",
+            zero_circle_axial.join(", ")
+        );
+    }
     let dofs: usize = res.harmonics.iter().map(|h| h.dofs).max().unwrap_or(0);
     println!(
         "solved {} harmonics ({} dofs each at most), {} modes below {} Hz in {:.3} s",
