@@ -120,3 +120,20 @@ fn axle_ends_without_axle_is_rejected() {
     ]);
     assert_bad_input(&out, &["--clamp", "axle-ends"]);
 }
+
+#[test]
+fn band_without_modes_is_reported() {
+    let out = run(&[
+        "axisym",
+        "--wheel",
+        WHEEL,
+        "--harmonics",
+        "5",
+        "--fmax-hz",
+        "10",
+        "--element-size-mm",
+        "20",
+        "--without-axle",
+    ]);
+    assert_bad_input(&out, &["--fmax-hz", "no mode below 10 Hz"]);
+}

@@ -128,6 +128,16 @@ pub fn run(args: AxisymArgs) -> Result<()> {
             fmax_hz: args.fmax_hz,
         },
     )?;
+    if res.modes.is_empty() {
+        return Err(Error::input(
+            "command line",
+            "--fmax-hz",
+            format!(
+                "no mode below {} Hz in harmonics {}: raise --fmax-hz or widen --harmonics",
+                args.fmax_hz, args.harmonics
+            ),
+        ));
+    }
     println!(
         "{}: section {} Q9 elements, {} nodes{}",
         spec.name,
