@@ -5,6 +5,7 @@
 //! name says otherwise (e.g. `_mm` in profile tables).
 
 pub mod analysis;
+pub mod axisym;
 pub mod contact;
 pub mod error;
 pub mod explicit;

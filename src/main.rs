@@ -32,6 +32,8 @@ enum Command {
     Kalker(cli::kalker::KalkerArgs),
     /// Roll the wheel on the track: one rolling-contact case (or the five) into a run directory.
     Simulate(cli::simulate::SimulateArgs),
+    /// Wheel modes by the axisymmetric (Fourier-harmonic) solver: modes.json / modes.csv.
+    Axisym(cli::axisym::AxisymArgs),
     /// Benchmarks that print the README's performance figures.
     Bench(cli::bench::BenchArgs),
 }
@@ -55,6 +57,7 @@ fn main() {
         Some(Command::Kalker(args)) => cli::kalker::run(args),
         Some(Command::Bench(args)) => cli::bench::run(args),
         Some(Command::Simulate(args)) => cli::simulate::run(args),
+        Some(Command::Axisym(args)) => cli::axisym::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");

@@ -1,5 +1,6 @@
 //! Subcommand argument types and their glue to the library, one file per subcommand.
 
+pub mod axisym;
 pub mod bench;
 pub mod default_run;
 pub mod identify;

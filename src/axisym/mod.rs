@@ -1,0 +1,597 @@
+//! Axisymmetric (Fourier-harmonic) modal solver for bodies of revolution (issue 3, item 3).
+//!
+//! The cross-section is meshed once with nine-node quadrilaterals ([`mesh::Q9Mesh`]); for each
+//! harmonic n the displacements vary as cos(n theta) / sin(n theta) around the axis
+//! ([`element`] states the strain-displacement relations), so every mode of harmonic n has
+//! exactly n nodal diameters. For each n the generalized eigenproblem
+//!
+//! ```text
+//! K_n x = omega^2 M_n x
+//! ```
+//!
+//! is solved for all omega below 2 pi fmax by shift-invert Lanczos with a Sturm-count check
+//! ([`eigen`]). Harmonics n >= 1 stand for a pair of 3D modes (cos and sin companions) with the
+//! same frequency; `multiplicity` says so.
+//!
+//! Axis conditions (nodes at r = 0, e.g. a solid disc or the axle core), from regularity of the
+//! strains e_tt = (U_r + n U_t)/r, g_rt and g_tz at r -> 0:
+//! n = 0: U_r = U_t = 0; n = 1: U_r + U_t = 0 and U_z = 0 (U_t eliminated as -U_r);
+//! n >= 2: U_r = U_t = U_z = 0.
+//!
+//! Free bodies: rigid-body motions appear at n = 0 (axial translation, rotation about the axis)
+//! and n = 1 (translation across the axis, tilt), each once per harmonic; modes below
+//! [`RIGID_LIMIT_HZ`] are flagged rigid.
+//!
+//! Classification: family by the share of modal kinetic energy (omega^2/2 x^T M x split by
+//! component, exact because M couples only like components): U_z -> axial, U_r -> radial,
+//! U_t -> circumferential. Nodal circles: sign changes of the axial (axial family), radial
+//! (radial family) or circumferential displacement along a radial path through the section
+//! (the web centre line of a wheel, the mid-plane of a disc), ignoring samples below 5 % of the
+//! largest magnitude on the path so that numerical noise near a node line is not counted.
+
+pub mod eigen;
+pub mod element;
+pub mod mesh;
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::geometry::wheel::{axle_radius_mm, WheelSpec};
+use crate::identify::{ModeFamily, ModeRef};
+use crate::mesh::material as part;
+use crate::mesh::wheel::mesh_section;
+use crate::{Error, Result};
+pub use element::Material;
+pub use mesh::Q9Mesh;
+
+/// Frequencies below this (Hz) are rigid-body modes.
+pub const RIGID_LIMIT_HZ: f64 = 1.0;
+
+/// The largest accepted relative residual ||K x - w^2 M x|| / ||K x|| (issue 3, item 2).
+pub const MAX_RELATIVE_RESIDUAL: f64 = 1e-8;
+
+/// Share of the path's largest magnitude below which a sample has no sign (nodal circles).
+const NODAL_SIGN_THRESHOLD: f64 = 0.05;
+
+/// A body of revolution ready to solve.
+#[derive(Clone, Debug)]
+pub struct AxisymModel {
+    /// The Q9 section mesh, (r, z) in m.
+    pub mesh: Q9Mesh,
+    /// Material (one for all parts; the wheel and axle are the same steel in the data files).
+    pub material: Material,
+    /// Nodes whose three displacement components are held at zero.
+    pub clamped: Vec<usize>,
+    /// Radial path for the nodal-circle count, `[r, z]` (m), from the inner to the outer end.
+    pub radial_path: Vec<[f64; 2]>,
+}
+
+/// What to hold fixed on a wheel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum WheelClamp {
+    /// Free-free.
+    None,
+    /// The hub bore (r = bore radius over the hub length).
+    HubBore,
+    /// Both ends of the half axle (the section lines S = first and last axle profile point).
+    AxleEnds,
+}
+
+/// Wheel model options.
+#[derive(Clone, Copy, Debug)]
+pub struct WheelModelOptions {
+    /// Leave the half-axle out (the section then ends at the hub bore).
+    pub without_axle: bool,
+    /// Clamped lines.
+    pub clamp: WheelClamp,
+}
+
+impl Default for WheelModelOptions {
+    fn default() -> Self {
+        WheelModelOptions {
+            without_axle: false,
+            clamp: WheelClamp::None,
+        }
+    }
+}
+
+impl AxisymModel {
+    /// Model of a wheel from its spec: the section of [`mesh_section`] (the same quads the 3D
+    /// mesh revolves) upgraded to Q9. With the axle, the axle's solid core (which the 3D mesh
+    /// fills with an O-grid square) is added as a structured block down to the axis.
+    pub fn from_wheel(spec: &WheelSpec, opts: WheelModelOptions) -> Result<AxisymModel> {
+        let mut section = mesh_section(spec, None);
+        let with_axle = spec.axle.is_some() && !opts.without_axle;
+        if let (true, Some(axle)) = (with_axle, &spec.axle) {
+            // Core block: eta in [0, 1/2] of the local axle radius, same stations as the ring.
+            let h = spec.mesh.element_size_mm;
+            let r_max = axle.profile_mm.iter().fold(0.0f64, |m, p| m.max(p[1]));
+            let k = ((0.5 * r_max / h).round() as usize).max(1);
+            let grid: Vec<Vec<[f64; 2]>> = section
+                .axle_stations_mm
+                .iter()
+                .map(|&s| {
+                    let r_axle = axle_radius_mm(&axle.profile_mm, s);
+                    (0..=k)
+                        .map(|i| [s, 0.5 * r_axle * i as f64 / k as f64])
+                        .collect()
+                })
+                .collect();
+            section.body.add_grid(&grid, part::AXLE);
+        }
+        let drop: &[u32] = if with_axle { &[] } else { &[part::AXLE] };
+        let mesh = Q9Mesh::from_section(&section.body, drop);
+        let tol = 1e-6; // m; section nodes lie on these lines to rounding (1e-7 mm merges)
+        let clamped = match opts.clamp {
+            WheelClamp::None => Vec::new(),
+            WheelClamp::HubBore => mesh.nodes_at_r(
+                spec.hub.bore_radius_mm * 1e-3,
+                spec.hub.s_min_mm * 1e-3,
+                spec.hub.s_max_mm * 1e-3,
+                tol,
+            ),
+            WheelClamp::AxleEnds => {
+                let axle = match (&spec.axle, with_axle) {
+                    (Some(a), true) => a,
+                    _ => {
+                        return Err(Error::input(
+                            "command line",
+                            "--clamp",
+                            "axle-ends needs a wheel file with an axle and no --without-axle",
+                        ))
+                    }
+                };
+                let p = &axle.profile_mm;
+                let mut ids = mesh.nodes_at_z(p[0][0] * 1e-3, tol);
+                ids.extend(mesh.nodes_at_z(p[p.len() - 1][0] * 1e-3, tol));
+                ids
+            }
+        };
+        if opts.clamp != WheelClamp::None && clamped.is_empty() {
+            return Err(Error::Mesh(format!(
+                "no section node lies on the clamped line ({:?})",
+                opts.clamp
+            )));
+        }
+        let radial_path = (0..=40)
+            .map(|i| {
+                let t = i as f64 / 40.0;
+                let (c, _) = spec.web_at(t);
+                let r = spec.hub.outer_radius_mm
+                    + t * (spec.rim_inner_radius_mm - spec.hub.outer_radius_mm);
+                [r * 1e-3, c * 1e-3]
+            })
+            .collect();
+        let m = spec.material;
+        Ok(AxisymModel {
+            mesh,
+            material: Material {
+                youngs_modulus_pa: m.youngs_modulus_pa,
+                poisson_ratio: m.poisson_ratio,
+                density_kg_per_m3: m.density_kg_per_m3,
+            },
+            clamped,
+            radial_path,
+        })
+    }
+
+    /// An annular (r0 > 0) or solid (r0 = 0) disc / ring of rectangular section
+    /// r in [r0, r1], z in [-t/2, t/2], `nr` x `nz` elements; radial path on the mid-plane.
+    pub fn rectangle(
+        r0: f64,
+        r1: f64,
+        thickness: f64,
+        nr: usize,
+        nz: usize,
+        material: Material,
+    ) -> AxisymModel {
+        let mesh = Q9Mesh::rectangle(r0, r1, -0.5 * thickness, 0.5 * thickness, nr, nz);
+        let radial_path = (0..=4 * nr)
+            .map(|i| [r0 + (r1 - r0) * i as f64 / (4 * nr) as f64, 0.0])
+            .collect();
+        AxisymModel {
+            mesh,
+            material,
+            clamped: Vec::new(),
+            radial_path,
+        }
+    }
+}
+
+/// Solver options.
+#[derive(Clone, Debug)]
+pub struct AxisymOptions {
+    /// Harmonics (nodal diameters) to solve.
+    pub harmonics: Vec<u32>,
+    /// Upper frequency (Hz): all modes below it are returned.
+    pub fmax_hz: f64,
+}
+
+impl Default for AxisymOptions {
+    fn default() -> Self {
+        AxisymOptions {
+            harmonics: (0..=12).collect(),
+            fmax_hz: 10_000.0,
+        }
+    }
+}
+
+/// One mode of the axisymmetric model (`modes.json` entry; a superset of [`ModeRef`]).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct AxisymMode {
+    /// Natural frequency (Hz).
+    pub frequency_hz: f64,
+    /// Family by kinetic energy share (rigid below [`RIGID_LIMIT_HZ`]).
+    pub family: ModeFamily,
+    /// Nodal circles along the radial path.
+    pub nodal_circles: u32,
+    /// Nodal diameters (= harmonic).
+    pub nodal_diameters: u32,
+    /// Fourier harmonic n.
+    pub harmonic: u32,
+    /// Relative residual ||K x - w^2 M x|| / ||K x|| (rigid modes: / (max K_ii ||x||)).
+    pub residual: f64,
+    /// 1 for n = 0, 2 for n >= 1 (the cos and sin companions).
+    pub multiplicity: u32,
+    /// Kinetic energy shares (radial, circumferential, axial), summing to 1.
+    pub energy_share: [f64; 3],
+    /// Mode shape per section node (U_r, U_t, U_z), M-normalised; not written to JSON.
+    #[serde(skip)]
+    pub shape: Vec<[f64; 3]>,
+}
+
+impl AxisymMode {
+    /// The label record the identification uses.
+    pub fn mode_ref(&self) -> ModeRef {
+        ModeRef {
+            frequency_hz: self.frequency_hz,
+            family: self.family,
+            nodal_circles: self.nodal_circles,
+            nodal_diameters: self.nodal_diameters,
+        }
+    }
+    /// True for a rigid-body mode.
+    pub fn is_rigid(&self) -> bool {
+        self.family == ModeFamily::Rigid
+    }
+}
+
+/// Per-harmonic statistics.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct HarmonicStats {
+    /// Harmonic n.
+    pub harmonic: u32,
+    /// Free degrees of freedom.
+    pub dofs: usize,
+    /// Entries of the LDL^T factor.
+    pub factor_nnz: usize,
+    /// Sturm count below fmax (= modes returned).
+    pub sturm_count: usize,
+    /// Lanczos steps.
+    pub lanczos_steps: usize,
+    /// Wall time of the assembly, AMD ordering and symbolic factorisation (s).
+    pub assembly_seconds: f64,
+    /// Wall time of the two factorisations, Lanczos runs and polish (s).
+    pub eigen_seconds: f64,
+    /// Wall time of assembly + solve + classification (s).
+    pub seconds: f64,
+}
+
+/// Result of [`solve`].
+#[derive(Clone, Debug)]
+pub struct AxisymResult {
+    /// Modes, sorted by frequency.
+    pub modes: Vec<AxisymMode>,
+    /// Per harmonic.
+    pub harmonics: Vec<HarmonicStats>,
+    /// Total wall time (s).
+    pub seconds: f64,
+}
+
+/// Degree-of-freedom map: per node and component, the free dof and its coefficient.
+type DofMap = Vec<[Option<(usize, f64)>; 3]>;
+
+fn dof_map(model: &AxisymModel, harmonic: u32) -> (DofMap, usize) {
+    let axis = model.mesh.axis_nodes();
+    let mut clamped = vec![false; model.mesh.node_count()];
+    for &c in &model.clamped {
+        clamped[c] = true;
+    }
+    let mut next = 0usize;
+    let mut fresh = || {
+        next += 1;
+        Some((next - 1, 1.0))
+    };
+    let map: DofMap = (0..model.mesh.node_count())
+        .map(|i| {
+            if clamped[i] {
+                [None, None, None]
+            } else if axis[i] {
+                match harmonic {
+                    0 => [None, None, fresh()],
+                    1 => {
+                        let r = fresh();
+                        [r, r.map(|(g, _)| (g, -1.0)), None]
+                    }
+                    _ => [None, None, None],
+                }
+            } else {
+                [fresh(), fresh(), fresh()]
+            }
+        })
+        .collect();
+    (map, next)
+}
+
+/// Assemble K_n and M_n.
+pub fn assemble(
+    model: &AxisymModel,
+    harmonic: u32,
+) -> Result<(eigen::PencilMatrices, DofMap, usize)> {
+    let (map, ndof) = dof_map(model, harmonic);
+    if ndof == 0 {
+        return Err(Error::Mesh(
+            "the section has no free degree of freedom".into(),
+        ));
+    }
+    let mut trip: Vec<(usize, usize, f64, f64)> =
+        Vec::with_capacity(model.mesh.elements.len() * 400);
+    for (e, conn) in model.mesh.elements.iter().enumerate() {
+        let xy: [[f64; 2]; 9] = std::array::from_fn(|k| model.mesh.nodes[conn[k]]);
+        let (ke, me) =
+            element::element_matrices(&xy, harmonic, &model.material).ok_or_else(|| {
+                Error::Mesh(format!(
+                    "section element {e} is degenerate or folded (non-positive Jacobian or radius)"
+                ))
+            })?;
+        for a in 0..27 {
+            let Some((ga, ca)) = map[conn[a / 3]][a % 3] else {
+                continue;
+            };
+            for b in 0..27 {
+                let Some((gb, cb)) = map[conn[b / 3]][b % 3] else {
+                    continue;
+                };
+                if ga <= gb {
+                    trip.push((ga, gb, ca * cb * ke[a][b], ca * cb * me[a][b]));
+                }
+            }
+        }
+    }
+    Ok((
+        eigen::PencilMatrices::from_triplets(ndof, &trip)?,
+        map,
+        ndof,
+    ))
+}
+
+fn norm(x: &[f64]) -> f64 {
+    x.iter().map(|v| v * v).sum::<f64>().sqrt()
+}
+
+/// Rigid-body motions of harmonic n as nodal (U_r, U_t, U_z) fields (exact null vectors of K
+/// for a free body): n = 0 axial translation (U_z = 1) and rotation about the axis (U_t = r);
+/// n = 1 translation across the axis (U_r = 1, U_t = -1: u_x = 1) and tilt about the
+/// perpendicular axis (U_r = z, U_t = -z, U_z = -r); none for n >= 2.
+fn rigid_motions(model: &AxisymModel, harmonic: u32) -> Vec<Vec<[f64; 3]>> {
+    let nodes = &model.mesh.nodes;
+    match harmonic {
+        0 => vec![
+            nodes.iter().map(|_| [0.0, 0.0, 1.0]).collect(),
+            nodes.iter().map(|p| [0.0, p[0], 0.0]).collect(),
+        ],
+        1 => vec![
+            nodes.iter().map(|_| [1.0, -1.0, 0.0]).collect(),
+            nodes.iter().map(|p| [p[1], -p[1], -p[0]]).collect(),
+        ],
+        _ => Vec::new(),
+    }
+}
+
+/// Solve one harmonic.
+pub fn solve_harmonic(
+    model: &AxisymModel,
+    harmonic: u32,
+    fmax_hz: f64,
+) -> Result<(Vec<AxisymMode>, HarmonicStats)> {
+    let t0 = Instant::now();
+    let (pencil, map, ndof) = assemble(model, harmonic)?;
+    let assembly_seconds = t0.elapsed().as_secs_f64();
+    let omega_max = std::f64::consts::TAU * fmax_hz;
+    let lambda_max = omega_max * omega_max;
+    let settings = eigen::EigenSettings {
+        lambda_max,
+        // Shift at -(0.2 fmax)^2 (in omega^2): below every eigenvalue (K - sigma M positive
+        // definite even for a free body) and close enough to the band that its modes are the
+        // dominant end of the transformed spectrum.
+        sigma: -0.04 * lambda_max,
+        // Transformed residual |beta s| <= 1e-12 theta: the accepted pairs then have relative
+        // residuals in K, M well below MAX_RELATIVE_RESIDUAL (checked below, not assumed).
+        ritz_tolerance: 1e-12,
+    };
+    let t_eig = Instant::now();
+    let known: Vec<Vec<f64>> = if model.clamped.is_empty() {
+        rigid_motions(model, harmonic)
+            .iter()
+            .map(|field| {
+                let mut x = vec![0.0; ndof];
+                for (i, u) in field.iter().enumerate() {
+                    for c in 0..3 {
+                        if let Some((g, sign)) = map[i][c] {
+                            // A dof shared by U_r and U_t (n = 1 on the axis) takes U_r.
+                            if c == 0 || map[i][0].map(|d| d.0) != Some(g) {
+                                x[g] = sign * u[c];
+                            }
+                        }
+                    }
+                }
+                pencil.permute(&x)
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let res = eigen::solve_below(&pencil, &settings, &known)?;
+    let eigen_seconds = t_eig.elapsed().as_secs_f64();
+    let k_scale = pencil.max_k_diagonal();
+    let n_nodes = model.mesh.node_count();
+    let path_nodes = path_nodes(model);
+    // Kinetic energy shares: x^T M x split by component (M couples only like components).
+    // A dof shared by U_r and U_t (n = 1 axis node) counts as radial.
+    let mut owner = vec![usize::MAX; ndof];
+    for node in map.iter() {
+        for (c, d) in node.iter().enumerate() {
+            if let Some((g, _)) = d {
+                if owner[*g] == usize::MAX {
+                    owner[*g] = c;
+                }
+            }
+        }
+    }
+    let owner_perm: Vec<usize> = {
+        let as_f: Vec<f64> = owner.iter().map(|&c| c as f64).collect();
+        pencil.permute(&as_f).iter().map(|&c| c as usize).collect()
+    };
+    let mut modes = Vec::with_capacity(res.values.len());
+    let mut kx = vec![0.0; ndof];
+    let mut mx = vec![0.0; ndof];
+    for (lambda, x) in res.values.iter().zip(&res.vectors) {
+        pencil.k_mul(x, &mut kx);
+        pencil.m_mul(x, &mut mx);
+        let r: Vec<f64> = kx.iter().zip(&mx).map(|(k, m)| k - lambda * m).collect();
+        let freq = lambda.max(0.0).sqrt() / std::f64::consts::TAU;
+        let rigid = freq < RIGID_LIMIT_HZ;
+        let denom = if rigid { k_scale * norm(x) } else { norm(&kx) };
+        let residual = norm(&r) / denom.max(f64::MIN_POSITIVE);
+        if residual > MAX_RELATIVE_RESIDUAL {
+            return Err(Error::Numerical(format!(
+                "axisymmetric solver: harmonic {harmonic}, mode at {freq:.3} Hz has relative \
+                 residual {residual:.2e} > {MAX_RELATIVE_RESIDUAL:.0e}"
+            )));
+        }
+        let xo = pencil.unpermute(x);
+        let shape: Vec<[f64; 3]> = (0..n_nodes)
+            .map(|i| std::array::from_fn(|c| map[i][c].map_or(0.0, |(g, s)| s * xo[g])))
+            .collect();
+        let mut share = pencil.component_energies(x, &owner_perm);
+        let total: f64 = share.iter().sum::<f64>().max(f64::MIN_POSITIVE);
+        share.iter_mut().for_each(|s| *s /= total);
+        let family = if rigid {
+            ModeFamily::Rigid
+        } else if share[2] >= share[0] && share[2] >= share[1] {
+            ModeFamily::Axial
+        } else if share[0] >= share[1] {
+            ModeFamily::Radial
+        } else {
+            ModeFamily::Circumferential
+        };
+        let comp = match family {
+            ModeFamily::Radial => 0,
+            ModeFamily::Circumferential => 1,
+            _ => 2,
+        };
+        let samples: Vec<f64> = path_nodes.iter().map(|&i| shape[i][comp]).collect();
+        modes.push(AxisymMode {
+            frequency_hz: freq,
+            family,
+            nodal_circles: sign_changes(&samples),
+            nodal_diameters: harmonic,
+            harmonic,
+            residual,
+            multiplicity: if harmonic == 0 { 1 } else { 2 },
+            energy_share: share,
+            shape,
+        });
+    }
+    let stats = HarmonicStats {
+        harmonic,
+        dofs: ndof,
+        factor_nnz: pencil.factor_nnz(),
+        sturm_count: res.sturm_count,
+        lanczos_steps: res.lanczos_steps,
+        assembly_seconds,
+        eigen_seconds,
+        seconds: t0.elapsed().as_secs_f64(),
+    };
+    Ok((modes, stats))
+}
+
+/// The nearest mesh node to each point of the radial path (consecutive repeats removed).
+fn path_nodes(model: &AxisymModel) -> Vec<usize> {
+    let mut out: Vec<usize> = Vec::new();
+    for p in &model.radial_path {
+        let best = (0..model.mesh.node_count())
+            .min_by(|&a, &b| {
+                let da = dist2(model.mesh.nodes[a], *p);
+                let db = dist2(model.mesh.nodes[b], *p);
+                da.total_cmp(&db)
+            })
+            .unwrap_or(0);
+        if out.last() != Some(&best) {
+            out.push(best);
+        }
+    }
+    out
+}
+
+fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)
+}
+
+/// Sign changes of a sampled displacement, ignoring samples below
+/// [`NODAL_SIGN_THRESHOLD`] of the largest magnitude.
+pub fn sign_changes(samples: &[f64]) -> u32 {
+    let peak = samples.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if peak == 0.0 {
+        return 0;
+    }
+    let mut last = 0.0f64;
+    let mut count = 0;
+    for &v in samples {
+        if v.abs() < NODAL_SIGN_THRESHOLD * peak {
+            continue;
+        }
+        if last != 0.0 && v.signum() != last {
+            count += 1;
+        }
+        last = v.signum();
+    }
+    count
+}
+
+/// Solve all requested harmonics (in parallel over harmonics) and sort the modes by frequency.
+pub fn solve(model: &AxisymModel, opts: &AxisymOptions) -> Result<AxisymResult> {
+    if !(opts.fmax_hz.is_finite() && opts.fmax_hz > 0.0) {
+        return Err(Error::input(
+            "command line",
+            "--fmax-hz",
+            format!("must be a positive frequency, got {}", opts.fmax_hz),
+        ));
+    }
+    let t0 = Instant::now();
+    let per: Vec<Result<(Vec<AxisymMode>, HarmonicStats)>> = opts
+        .harmonics
+        .par_iter()
+        .map(|&n| solve_harmonic(model, n, opts.fmax_hz))
+        .collect();
+    let mut modes = Vec::new();
+    let mut harmonics = Vec::new();
+    for r in per {
+        let (m, s) = r?;
+        modes.extend(m);
+        harmonics.push(s);
+    }
+    modes.sort_by(|a, b| {
+        a.frequency_hz
+            .total_cmp(&b.frequency_hz)
+            .then(a.harmonic.cmp(&b.harmonic))
+    });
+    Ok(AxisymResult {
+        modes,
+        harmonics,
+        seconds: t0.elapsed().as_secs_f64(),
+    })
+}
