@@ -15,6 +15,20 @@ use crate::{Error, Result};
 /// A stage that writes `modes.json` into the run directory it is given.
 pub type ModesStage = dyn Fn(&Path) -> Result<()>;
 
+/// The modes stage by the axisymmetric solver (harmonics 0..12, below 10 kHz) on `wheel`:
+/// writes `modes.json` (ModeRef-compatible entries) into the run directory.
+pub fn axisym_modes_stage(wheel: crate::geometry::wheel::WheelSpec) -> Box<ModesStage> {
+    Box::new(move |dir: &Path| -> Result<()> {
+        use crate::axisym::{solve, AxisymModel, AxisymOptions, WheelModelOptions};
+        let model = AxisymModel::from_wheel(&wheel, WheelModelOptions::default())?;
+        let result = solve(&model, &AxisymOptions::default())?;
+        let path = dir.join("modes.json");
+        let text = serde_json::to_string_pretty(&result.modes)
+            .map_err(|e| Error::Numerical(format!("encoding modes.json: {e}")))?;
+        std::fs::write(&path, text).map_err(|e| Error::io(&path, e))
+    })
+}
+
 /// Options of [`run_pipeline`].
 #[derive(Clone, Debug)]
 pub struct PipelineOptions {

@@ -11,9 +11,10 @@ fn reduced_default_run_writes_a_complete_report() {
     let case = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
     let dir = std::env::temp_dir().join(format!("squeal_pipeline_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
+    let modes = squeal::pipeline::axisym_modes_stage(case.scenario.wheel.clone());
     let summary = run_pipeline(
         &case,
-        None,
+        Some(modes.as_ref()),
         &PipelineOptions {
             out_dir: dir.clone(),
             end_time_s: None,
@@ -21,6 +22,7 @@ fn reduced_default_run_writes_a_complete_report() {
         },
     )
     .unwrap();
+    assert!(summary.run_dir.join("modes.json").exists());
     let md = std::fs::read_to_string(dir.join("index.md")).unwrap();
     for section in [
         "Wheel vibration",
@@ -28,6 +30,8 @@ fn reduced_default_run_writes_a_complete_report() {
         "Contact forces",
         "Listen",
         "Run metadata",
+        "Wheel modes",
+        "Dominant frequencies and wheel modes",
     ] {
         assert!(
             md.contains(section),

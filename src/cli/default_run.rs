@@ -25,7 +25,7 @@ pub fn run(out_dir: &Path) -> Result<()> {
     );
     let summary = squeal::pipeline::run_pipeline(
         &case,
-        modes_stage().as_deref(),
+        Some(squeal::pipeline::axisym_modes_stage(case.scenario.wheel.clone()).as_ref()),
         &squeal::pipeline::PipelineOptions {
             out_dir: out_dir.to_path_buf(),
             end_time_s: None,
@@ -42,11 +42,6 @@ pub fn run(out_dir: &Path) -> Result<()> {
         summary.report_html.display()
     );
     Ok(())
-}
-
-/// The wheel-modes stage of the default pipeline (None while no modal solver is built in).
-fn modes_stage() -> Option<Box<squeal::pipeline::ModesStage>> {
-    None
 }
 
 /// The model page: default meshes, their quality and section charts, into `out_dir`.
