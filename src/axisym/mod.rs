@@ -106,10 +106,16 @@ impl AxisymModel {
         let mut section = mesh_section(spec, None);
         let with_axle = spec.axle.is_some() && !opts.without_axle;
         if let (true, Some(axle)) = (with_axle, &spec.axle) {
-            // Core block: eta in [0, 1/2] of the local axle radius, same stations as the ring.
+            // Core block: eta in [0, 1/2] of the local axle radius, same stations as the ring,
+            // rows four times the section element size (one row for the default wheel): the
+            // quadratic elements carry the core's strain (about linear through the radius in
+            // bending, uniform in extension), and rows of the section size would make this
+            // block a quarter of the section's elements. Measured on the default wheel: every
+            // mode below 10 kHz moves by less than 2e-5 (relative) against rows of size h,
+            // with the same labels, and n = 0..12 solves 1.7x faster.
             let h = spec.mesh.element_size_mm;
             let r_max = axle.profile_mm.iter().fold(0.0f64, |m, p| m.max(p[1]));
-            let k = ((0.5 * r_max / h).round() as usize).max(1);
+            let k = ((0.5 * r_max / (4.0 * h)).round() as usize).max(1);
             let grid: Vec<Vec<[f64; 2]>> = section
                 .axle_stations_mm
                 .iter()
