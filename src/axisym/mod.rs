@@ -548,7 +548,7 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 /// Sign changes of a sampled displacement, ignoring samples below
-/// [`NODAL_SIGN_THRESHOLD`] of the largest magnitude.
+/// 5 % (`NODAL_SIGN_THRESHOLD`) of the largest magnitude.
 pub fn sign_changes(samples: &[f64]) -> u32 {
     let peak = samples.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     if peak == 0.0 {
