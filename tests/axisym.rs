@@ -2,7 +2,7 @@
 //! (../shared/DATA.md section 4): thin annular and solid free plates (Kirchhoff), thin rings
 //! (in-plane and out-of-plane flexure), residuals, Sturm counts, rigid modes, refinement.
 
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::TAU;
 
 use squeal::axisym::{self, AxisymModel, AxisymOptions, Material, WheelClamp, WheelModelOptions};
 use squeal::geometry::wheel::WheelSpec;
@@ -256,5 +256,4 @@ fn default_wheel_modes() {
         .modes
         .iter()
         .all(|m| !m.is_rigid() && m.residual < 1e-8));
-    let _ = PI;
 }

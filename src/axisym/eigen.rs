@@ -33,71 +33,50 @@ use crate::{Error, Result};
 /// Symmetric K and M with one shared upper-triangle pattern.
 pub struct PencilMatrices {
     n: usize,
+    pat: std::sync::Arc<Pattern>,
+    k_val: Vec<f64>,
+    m_val: Vec<f64>,
+}
+
+/// The value-independent part of a pencil: order, upper-triangle pattern, symbolic factor and
+/// where each input entry lands. Harmonics with the same degree-of-freedom map (all n >= 2, and
+/// every n for a section off the axis) share one, so their assembly is a plain scatter.
+pub struct Pattern {
+    n: usize,
     /// Fill-reducing order: `perm_inv[old] = new`.
     perm_inv: Vec<usize>,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
-    k_val: Vec<f64>,
-    m_val: Vec<f64>,
+    /// Value slot of each input pair (in the order given to [`Pattern::new`]).
+    slot: Vec<usize>,
     symbolic: simplicial::SymbolicSimplicialCholesky<usize>,
 }
 
-/// An LDL^T factor of K - sigma M.
-pub struct ShiftedFactor<'a> {
-    pencil: &'a PencilMatrices,
-    l_values: Vec<f64>,
-    /// Number of negative pivots (= eigenvalues below sigma).
-    pub negative_pivots: usize,
-}
-
-fn faer_err(what: &str, e: impl std::fmt::Debug) -> Error {
-    Error::Numerical(format!("axisymmetric eigen solver: {what}: {e:?}"))
-}
-
-impl PencilMatrices {
-    /// Build from symmetric triplets `(i, j, k, m)` (each (i, j) entry given for i <= j or
-    /// both orders; only i <= j is kept, duplicates are summed).
-    pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64, f64)]) -> Result<Self> {
-        let pairs: Vec<(usize, usize)> = triplets
+impl Pattern {
+    /// Pattern of the input pairs (i, j), i <= j (original numbering), under `perm_inv`.
+    pub fn new(n: usize, pairs: &[(usize, usize)], perm_inv: Vec<usize>) -> Result<Pattern> {
+        // Permuted upper position (col = max, row = min) of each input, sorted once.
+        let keys: Vec<u64> = pairs
             .iter()
-            .filter(|t| t.0 <= t.1)
-            .map(|t| (t.0, t.1))
-            .collect();
-        let perm_inv = amd_order(n, pairs)?;
-        Self::from_triplets_ordered(n, triplets, perm_inv)
-    }
-
-    /// As [`PencilMatrices::from_triplets`] with a given order `perm_inv[old] = new` (e.g. a
-    /// node-level AMD order expanded to the node's dofs: same quality, a graph 9x smaller).
-    pub fn from_triplets_ordered(
-        n: usize,
-        triplets: &[(usize, usize, f64, f64)],
-        perm_inv: Vec<usize>,
-    ) -> Result<Self> {
-        // Permuted upper pattern and values.
-        let mut entries: Vec<(usize, usize, f64, f64)> = triplets
-            .iter()
-            .filter(|t| t.0 <= t.1)
-            .map(|&(i, j, k, m)| {
+            .map(|&(i, j)| {
                 let (a, b) = (perm_inv[i], perm_inv[j]);
-                (a.max(b), a.min(b), k, m)
+                ((a.max(b) as u64) << 32) | a.min(b) as u64
             })
             .collect();
-        entries.sort_unstable_by_key(|x| (x.0, x.1));
-        let mut pairs = Vec::with_capacity(entries.len());
-        let mut k_val = Vec::with_capacity(entries.len());
-        let mut m_val = Vec::with_capacity(entries.len());
-        for (c, r, k, m) in entries {
-            if pairs.last() == Some(&(c, r)) {
-                *k_val.last_mut().expect("non-empty") += k;
-                *m_val.last_mut().expect("non-empty") += m;
-            } else {
-                pairs.push((c, r));
-                k_val.push(k);
-                m_val.push(m);
+        let mut order: Vec<u32> = (0..keys.len() as u32).collect();
+        order.sort_unstable_by_key(|&t| keys[t as usize]);
+        let mut slot = vec![0usize; keys.len()];
+        let mut uniq: Vec<(usize, usize)> = Vec::new();
+        let mut last = u64::MAX;
+        for &t in &order {
+            let key = keys[t as usize];
+            if key != last {
+                uniq.push(((key >> 32) as usize, (key & 0xffff_ffff) as usize));
+                last = key;
             }
+            slot[t as usize] = uniq.len() - 1;
         }
-        let (col_ptr, row_idx) = compress(n, &pairs);
+        let (col_ptr, row_idx) = compress(n, &uniq);
         let symbolic = {
             let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
             let mut mem = MemBuffer::new(StackReq::any_of(&[
@@ -117,15 +96,65 @@ impl PencilMatrices {
             )
             .map_err(|e| faer_err("symbolic factorisation", e))?
         };
-        Ok(PencilMatrices {
+        Ok(Pattern {
             n,
             perm_inv,
             col_ptr,
             row_idx,
-            k_val,
-            m_val,
+            slot,
             symbolic,
         })
+    }
+
+    /// Number of input pairs the pattern was built from.
+    pub fn input_len(&self) -> usize {
+        self.slot.len()
+    }
+}
+
+/// An LDL^T factor of K - sigma M.
+pub struct ShiftedFactor<'a> {
+    pencil: &'a PencilMatrices,
+    l_values: Vec<f64>,
+    /// Number of negative pivots (= eigenvalues below sigma).
+    pub negative_pivots: usize,
+}
+
+fn faer_err(what: &str, e: impl std::fmt::Debug) -> Error {
+    Error::Numerical(format!("axisymmetric eigen solver: {what}: {e:?}"))
+}
+
+impl PencilMatrices {
+    /// Build from symmetric triplets `(i, j, k, m)` (only i <= j is kept, duplicates are
+    /// summed), AMD-ordered.
+    pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64, f64)]) -> Result<Self> {
+        let t: Vec<_> = triplets.iter().filter(|t| t.0 <= t.1).copied().collect();
+        let pairs: Vec<(usize, usize)> = t.iter().map(|t| (t.0, t.1)).collect();
+        let perm_inv = amd_order(n, pairs.clone())?;
+        let pat = std::sync::Arc::new(Pattern::new(n, &pairs, perm_inv)?);
+        let k: Vec<f64> = t.iter().map(|t| t.2).collect();
+        let m: Vec<f64> = t.iter().map(|t| t.3).collect();
+        Ok(Self::from_values(pat, &k, &m))
+    }
+
+    /// Scatter entry values (in the order of the pairs the pattern was built from; duplicates
+    /// summed) onto a shared pattern.
+    pub fn from_values(pat: std::sync::Arc<Pattern>, k: &[f64], m: &[f64]) -> Self {
+        assert_eq!(k.len(), pat.slot.len());
+        assert_eq!(m.len(), pat.slot.len());
+        let nnz = pat.row_idx.len();
+        let mut k_val = vec![0.0; nnz];
+        let mut m_val = vec![0.0; nnz];
+        for ((&s, &kv), &mv) in pat.slot.iter().zip(k).zip(m) {
+            k_val[s] += kv;
+            m_val[s] += mv;
+        }
+        PencilMatrices {
+            n: pat.n,
+            pat,
+            k_val,
+            m_val,
+        }
     }
 
     /// Dimension.
@@ -135,20 +164,20 @@ impl PencilMatrices {
 
     /// Entries stored (upper triangle).
     pub fn nnz(&self) -> usize {
-        self.row_idx.len()
+        self.pat.row_idx.len()
     }
 
     /// Entries of the LDL^T factor.
     pub fn factor_nnz(&self) -> usize {
-        self.symbolic.len_val()
+        self.pat.symbolic.len_val()
     }
 
     /// Largest diagonal entry of K (a stiffness scale).
     pub fn max_k_diagonal(&self) -> f64 {
         let mut m = 0.0f64;
         for j in 0..self.n {
-            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
-                if self.row_idx[p] == j {
+            for p in self.pat.col_ptr[j]..self.pat.col_ptr[j + 1] {
+                if self.pat.row_idx[p] == j {
                     m = m.max(self.k_val[p].abs());
                 }
             }
@@ -160,8 +189,8 @@ impl PencilMatrices {
         y.iter_mut().for_each(|v| *v = 0.0);
         for j in 0..self.n {
             let mut acc = 0.0;
-            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
-                let i = self.row_idx[p];
+            for p in self.pat.col_ptr[j]..self.pat.col_ptr[j + 1] {
+                let i = self.pat.row_idx[p];
                 let v = vals[p];
                 acc += v * x[i];
                 if i != j {
@@ -187,8 +216,8 @@ impl PencilMatrices {
     pub fn component_energies(&self, x: &[f64], owner: &[usize]) -> [f64; 3] {
         let mut e = [0.0; 3];
         for j in 0..self.n {
-            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
-                let i = self.row_idx[p];
+            for p in self.pat.col_ptr[j]..self.pat.col_ptr[j + 1] {
+                let i = self.pat.row_idx[p];
                 let c = owner[j];
                 if owner[i] == c && c < 3 {
                     let v = self.m_val[p] * x[i] * x[j];
@@ -201,13 +230,13 @@ impl PencilMatrices {
 
     /// Vector in the permuted numbering -> original numbering.
     pub fn unpermute(&self, x: &[f64]) -> Vec<f64> {
-        (0..self.n).map(|old| x[self.perm_inv[old]]).collect()
+        (0..self.n).map(|old| x[self.pat.perm_inv[old]]).collect()
     }
 
     /// Vector in the original numbering -> permuted numbering.
     pub fn permute(&self, x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; self.n];
-        for (old, &new) in self.perm_inv.iter().enumerate() {
+        for (old, &new) in self.pat.perm_inv.iter().enumerate() {
             y[new] = x[old];
         }
         y
@@ -224,12 +253,12 @@ impl PencilMatrices {
         let sym = SymbolicSparseColMatRef::new_checked(
             self.n,
             self.n,
-            &self.col_ptr,
+            &self.pat.col_ptr,
             None,
-            &self.row_idx,
+            &self.pat.row_idx,
         );
         let a = SparseColMatRef::new(sym, &vals);
-        let mut l_values = vec![0.0f64; self.symbolic.len_val()];
+        let mut l_values = vec![0.0f64; self.pat.symbolic.len_val()];
         let mut mem = MemBuffer::new(simplicial::factorize_simplicial_numeric_ldlt_scratch::<
             usize,
             f64,
@@ -238,13 +267,13 @@ impl PencilMatrices {
             &mut l_values,
             a,
             LdltRegularization::default(),
-            &self.symbolic,
+            &self.pat.symbolic,
             MemStack::new(&mut mem),
         )
         .map_err(|e| faer_err(&format!("LDL^T of K - sigma M at sigma = {sigma:.6e}"), e))?;
         // The diagonal of column j (first stored entry, row j) holds the pivot D_j.
-        let lcp = self.symbolic.col_ptr();
-        let lri = self.symbolic.row_idx();
+        let lcp = self.pat.symbolic.col_ptr();
+        let lri = self.pat.symbolic.row_idx();
         let mut negative = 0;
         for j in 0..self.n {
             let p = lcp[j];
@@ -278,10 +307,15 @@ impl ShiftedFactor<'_> {
         let n = self.pencil.n;
         assert_eq!(b.len(), n * ncols);
         let ldlt = simplicial::SimplicialLdltRef::<'_, usize, f64>::new(
-            &self.pencil.symbolic,
+            &self.pencil.pat.symbolic,
             &self.l_values,
         );
-        let mut mem = MemBuffer::new(self.pencil.symbolic.solve_in_place_scratch::<f64>(ncols));
+        let mut mem = MemBuffer::new(
+            self.pencil
+                .pat
+                .symbolic
+                .solve_in_place_scratch::<f64>(ncols),
+        );
         let rhs = MatMut::from_column_major_slice_mut(b, n, ncols);
         ldlt.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, MemStack::new(&mut mem));
     }
