@@ -31,6 +31,11 @@ fn tiny_case_runs_and_keeps_the_contact_invariants() {
     )
     .unwrap();
     assert_eq!(record.run.status, "completed");
+    assert!(
+        record.longest_contact_loss_s < squeal::rolling::LIFT_OFF_LIMIT_S,
+        "lift-off {}",
+        record.longest_contact_loss_s
+    );
     for f in [
         "histories.csv",
         "contact_forces.csv",
@@ -124,5 +129,39 @@ fn bad_case_files_name_the_field() {
         };
         assert!(err.contains(field), "{field}: {err}");
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A wheel placed 5 mm above the rail is not in contact after the preload: an error naming the
+/// initial gap, not a silent run of a flying wheel.
+#[test]
+fn wheel_not_in_contact_after_preload_is_an_error() {
+    let dir = std::env::temp_dir().join(format!("squeal_rolling_gap_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy("data/wheels/ns_intercity_920.json", dir.join("wheel.json")).unwrap();
+    let scen = std::fs::read_to_string("data/scenarios/ci-tiny.json")
+        .unwrap()
+        .replace("../wheels/ns_intercity_920.json", "wheel.json")
+        .replace("\"initial_gap_mm\": 0.0", "\"initial_gap_mm\": 5.0");
+    assert!(scen.contains("\"initial_gap_mm\": 5.0"));
+    std::fs::write(dir.join("ci-tiny.json"), scen).unwrap();
+    let case = std::fs::read_to_string("data/scenarios/case3-ci.json")
+        .unwrap()
+        .replace("\"max_steps\": 2500", "\"max_steps\": 200");
+    std::fs::write(dir.join("case.json"), case).unwrap();
+    let loaded = load_case(&dir.join("case.json")).unwrap();
+    let err = simulate(
+        &loaded,
+        &SimulateOptions {
+            out_dir: dir.join("out"),
+            resume: false,
+            progress: false,
+            end_time_s: None,
+        },
+    )
+    .err()
+    .expect("a flying wheel must be an error");
+    assert!(err.to_string().contains("initial_gap_mm"), "{err}");
+    assert_eq!(err.exit_code(), 2);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -103,6 +103,16 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         if let Some(mu) = record.measured_traction_coefficient {
             println!("  measured traction coefficient (last quarter) {mu:.3}");
         }
+        if record.longest_contact_loss_s > squeal::rolling::LIFT_OFF_LIMIT_S {
+            return Err(Error::Numerical(format!(
+                "case {}: the wheel lost contact with the rail for {:.1} ms (limit {:.1} ms): \
+                 lift-off or derailment; output kept in {}",
+                record.case,
+                record.longest_contact_loss_s * 1e3,
+                squeal::rolling::LIFT_OFF_LIMIT_S * 1e3,
+                out.display()
+            )));
+        }
         if record.run.status != "completed" {
             return Err(Error::Numerical(format!(
                 "case {} stopped: {}",

@@ -320,6 +320,8 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         writer: None,
         out_dir: PathBuf::new(),
         resume_time_s: None,
+        lost_since_s: None,
+        longest_loss_s: 0.0,
     };
     Ok(RollingModel {
         solver,
@@ -472,6 +474,10 @@ pub struct RollingContact {
     writer: Option<BufWriter<File>>,
     out_dir: PathBuf,
     resume_time_s: Option<f64>,
+    /// Start of the current loss of contact (s), if the wheel is off the rail.
+    lost_since_s: Option<f64>,
+    /// Longest loss of contact so far (s).
+    longest_loss_s: f64,
 }
 
 /// Header of `contact_forces.csv`: forces on the wheel (N) in track axes.
@@ -511,6 +517,13 @@ impl RollingContact {
                 count += 1;
                 deepest = deepest.max(s.penetration_m);
             }
+        }
+        // Lift-off bookkeeping: a wheel off the rail for long (or derailed) is reported.
+        if count == 0 {
+            let since = *self.lost_since_s.get_or_insert(time_s);
+            self.longest_loss_s = self.longest_loss_s.max(time_s - since);
+        } else {
+            self.lost_since_s = None;
         }
         let total = [0, 1, 2].map(|i| normal[i] + tangential[i]);
         let creep = (tangential[0].powi(2) + tangential[1].powi(2) + tangential[2].powi(2)).sqrt();
@@ -706,7 +719,13 @@ pub struct RunRecord {
     pub measured_traction_coefficient: Option<f64>,
     /// Mean normal force over the first 5 ms after preload (N).
     pub initial_normal_force_n: Option<f64>,
+    /// Longest time without any contact node (s); above [`LIFT_OFF_LIMIT_S`] the run is
+    /// reported as lift-off or derailment.
+    pub longest_contact_loss_s: f64,
 }
+
+/// Longest loss of contact accepted as a bounce (s); longer is lift-off or derailment.
+pub const LIFT_OFF_LIMIT_S: f64 = 0.002;
 
 /// Runs one case into `opts.out_dir`.
 pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord> {
@@ -759,6 +778,14 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
             st.mu = friction.mu(0.0);
         }
         let report = report?;
+        if !m.contact.pair.state.iter().any(|s| s.active) {
+            return Err(Error::input(
+                &loaded.source.display().to_string(),
+                "model_scenario: wheel_position.initial_gap_mm",
+                "the wheel is not in contact with the rail after the preload: the initial gap is \
+                 too large or the contact surfaces do not face each other",
+            ));
+        }
         if opts.progress {
             eprintln!(
                 "preload: {} steps, relative residual {:.2e}{}",
@@ -820,6 +847,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         run: summary,
         measured_traction_coefficient: traction,
         initial_normal_force_n: initial_n,
+        longest_contact_loss_s: m.contact.longest_loss_s,
     };
     let path = opts.out_dir.join("run.json");
     let text =
