@@ -780,7 +780,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         let report = report?;
         if !m.contact.pair.state.iter().any(|s| s.active) {
             return Err(Error::input(
-                &loaded.source.display().to_string(),
+                loaded.source.display().to_string(),
                 "model_scenario: wheel_position.initial_gap_mm",
                 "the wheel is not in contact with the rail after the preload: the initial gap is \
                  too large or the contact surfaces do not face each other",
