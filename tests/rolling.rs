@@ -159,8 +159,7 @@ fn wheel_not_in_contact_after_preload_is_an_error() {
             end_time_s: None,
         },
     )
-    .err()
-    .expect("a flying wheel must be an error");
+    .expect_err("a flying wheel must be an error");
     assert!(err.to_string().contains("initial_gap_mm"), "{err}");
     assert_eq!(err.exit_code(), 2);
     let _ = std::fs::remove_dir_all(&dir);
