@@ -2,4 +2,5 @@
 //! markdown/HTML report.
 
 pub mod chart;
+pub mod patch_maps;
 pub mod run_report;

@@ -399,6 +399,48 @@ pub fn build_report(run_dirs: &[PathBuf], out_dir: &Path, title: &str) -> Result
             files.push(format!("{stem}.png"));
         }
     }
+    // Contact-patch snapshots (rolling runs): maps and centre line.
+    let mut patch_md = String::new();
+    for r in &runs {
+        let dir = r.dir.join("patches");
+        let Ok(entries) = std::fs::read_dir(&dir) else {
+            continue;
+        };
+        let mut csvs: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "csv"))
+            .collect();
+        csvs.sort();
+        for csv in csvs.iter().take(6) {
+            let snapshot: Option<crate::kalker::snapshot::PatchSnapshot> =
+                crate::input::read_json(&csv.with_extension("json")).ok();
+            let (mu, time_ms) = snapshot
+                .map(|s| (s.mu, s.time_s * 1e3))
+                .unwrap_or((f64::NAN, f64::NAN));
+            let file_stem = csv
+                .file_stem()
+                .map(|s| s.to_string_lossy().to_string())
+                .unwrap_or_default();
+            let stem = format!("{}_{}", file_stem, r.name);
+            match super::patch_maps::write_patch_maps(csv, mu, time_ms, out_dir, &stem) {
+                Ok(pngs) => {
+                    let _ = writeln!(patch_md, "**{} at {time_ms:.1} ms**\n", r.name);
+                    for f in pngs {
+                        let _ = writeln!(patch_md, "![{f}]({f})");
+                        files.push(f);
+                    }
+                    let _ = writeln!(patch_md);
+                }
+                Err(e) => {
+                    let _ = writeln!(patch_md, "- {}: {e}", csv.display());
+                }
+            }
+        }
+    }
+    if !patch_md.is_empty() {
+        heading(&mut md, "Contact patches");
+        md.push_str(&patch_md);
+    }
 
     // ---- Modal chart (frequency against nodal diameters per family; measured from an
     // optional RUN_DIR/hammer.csv).

@@ -1,0 +1,300 @@
+//! Contact-patch charts from a `patches/patch_<t>us.csv` snapshot (written by the rolling
+//! simulator): the patch map with shear-stress arrows and adhesion / slip by the stress
+//! criterion (shear at the traction bound), the map with micro-slip arrows and adhesion / slip
+//! by the velocity criterion, and pressure, shear and traction bound `mu p` along the
+//! longitudinal centre line (as the paper's patch figures).
+
+use std::path::Path;
+
+use super::chart::{write, LineChart, Series, Stroke};
+use super::run_report::Table;
+use crate::{Error, Result};
+
+/// One node of a patch snapshot, in patch coordinates (mm, relative to the pressure centre).
+struct Node {
+    x_mm: f64,
+    y_mm: f64,
+    pressure_mpa: f64,
+    shear_mpa: [f64; 2],
+    slip_m_per_s: [f64; 2],
+    slip_by_bound: bool,
+    slip_by_velocity: bool,
+}
+
+/// Numeric columns of a CSV file by header.
+fn read_columns(path: &Path) -> Result<Table> {
+    let name = path.display().to_string();
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut reader = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_reader(file);
+    let headers: Vec<String> = reader
+        .headers()
+        .map_err(|e| Error::input(&name, "header", e.to_string()))?
+        .iter()
+        .map(str::to_string)
+        .collect();
+    let mut columns = vec![Vec::new(); headers.len()];
+    for (line, rec) in reader.records().enumerate() {
+        let rec =
+            rec.map_err(|e| Error::input(&name, format!("line {}", line + 2), e.to_string()))?;
+        for (k, field) in rec.iter().enumerate().take(headers.len()) {
+            let v = field.parse::<f64>().map_err(|_| {
+                Error::input(
+                    &name,
+                    format!("line {}, column `{}`", line + 2, headers[k]),
+                    format!("`{field}` is not a number"),
+                )
+            })?;
+            columns[k].push(v);
+        }
+    }
+    Ok(Table { headers, columns })
+}
+
+fn read_nodes(csv: &Path) -> Result<Vec<Node>> {
+    let t = read_columns(csv)?;
+    let name = csv.display().to_string();
+    let col = |h: &str| -> Result<&[f64]> {
+        t.headers
+            .iter()
+            .position(|x| x == h)
+            .map(|k| t.columns[k].as_slice())
+            .ok_or_else(|| Error::input(&name, h, "column missing from the patch snapshot"))
+    };
+    let (x, y, p) = (col("x_m")?, col("y_m")?, col("pressure_pa")?);
+    let (sx, sy) = (col("shear_x_pa")?, col("shear_y_pa")?);
+    let (vx, vy) = (col("slip_vx_m_per_s")?, col("slip_vy_m_per_s")?);
+    let (b, v) = (col("slip_by_bound")?, col("slip_by_velocity")?);
+    let total: f64 = p.iter().sum();
+    if x.is_empty() || !(total > 0.0) {
+        return Err(Error::input(
+            &name,
+            "pressure_pa",
+            "the snapshot holds no loaded node",
+        ));
+    }
+    // Pressure centre: the patch origin.
+    let cx = x.iter().zip(p).map(|(a, w)| a * w).sum::<f64>() / total;
+    let cy = y.iter().zip(p).map(|(a, w)| a * w).sum::<f64>() / total;
+    Ok((0..x.len())
+        .map(|k| Node {
+            x_mm: (x[k] - cx) * 1e3,
+            y_mm: (y[k] - cy) * 1e3,
+            pressure_mpa: p[k] * 1e-6,
+            shear_mpa: [sx[k] * 1e-6, sy[k] * 1e-6],
+            slip_m_per_s: [vx[k], vy[k]],
+            slip_by_bound: b[k] > 0.5,
+            slip_by_velocity: v[k] > 0.5,
+        })
+        .collect())
+}
+
+/// Arrows (shaft and two head strokes) as unlabelled series; `scale` maps the vector to mm.
+fn arrows(
+    nodes: &[Node],
+    vector: impl Fn(&Node) -> [f64; 2],
+    scale: f64,
+    color: usize,
+) -> Vec<Series> {
+    let mut out = Vec::with_capacity(nodes.len());
+    for n in nodes {
+        let v = vector(n);
+        let (dx, dy) = (v[0] * scale, v[1] * scale);
+        let len = (dx * dx + dy * dy).sqrt();
+        if !(len > 1e-9) {
+            continue;
+        }
+        let (tx, ty) = (n.x_mm + dx, n.y_mm + dy);
+        // Head: two strokes at +-25 degrees, a quarter of the shaft long.
+        let (ux, uy) = (dx / len, dy / len);
+        let h = 0.25 * len;
+        let (c, s) = (25f64.to_radians().cos(), 25f64.to_radians().sin());
+        let left = (tx - h * (ux * c - uy * s), ty - h * (uy * c + ux * s));
+        let right = (tx - h * (ux * c + uy * s), ty - h * (uy * c - ux * s));
+        out.push(Series {
+            label: String::new(),
+            x: vec![n.x_mm, tx, left.0, tx, right.0],
+            y: vec![n.y_mm, ty, left.1, ty, right.1],
+            stroke: Stroke::Solid,
+            color,
+        });
+    }
+    out
+}
+
+/// Largest vector length, for arrow scaling.
+fn max_len(nodes: &[Node], vector: impl Fn(&Node) -> [f64; 2]) -> f64 {
+    nodes
+        .iter()
+        .map(|n| {
+            let v = vector(n);
+            (v[0] * v[0] + v[1] * v[1]).sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Node spacing estimate (mm): median distance to the nearest other node.
+fn spacing_mm(nodes: &[Node]) -> f64 {
+    let mut d: Vec<f64> = nodes
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            nodes
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| *j != i)
+                .map(|(_, b)| ((a.x_mm - b.x_mm).powi(2) + (a.y_mm - b.y_mm).powi(2)).sqrt())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .filter(|x| x.is_finite())
+        .collect();
+    d.sort_by(f64::total_cmp);
+    d.get(d.len() / 2).copied().unwrap_or(1.0)
+}
+
+fn markers(nodes: &[Node], slip: impl Fn(&Node) -> bool, criterion: &str) -> Vec<Series> {
+    let pick = |want: bool| -> (Vec<f64>, Vec<f64>) {
+        nodes
+            .iter()
+            .filter(|n| slip(n) == want)
+            .map(|n| (n.x_mm, n.y_mm))
+            .unzip()
+    };
+    let (ax, ay) = pick(false);
+    let (sx, sy) = pick(true);
+    vec![
+        Series {
+            label: format!("adhesion ({criterion})"),
+            x: ax,
+            y: ay,
+            stroke: Stroke::Points,
+            color: 2,
+        },
+        Series {
+            label: format!("slip ({criterion})"),
+            x: sx,
+            y: sy,
+            stroke: Stroke::Points,
+            color: 1,
+        },
+    ]
+}
+
+/// Writes `<stem>_shear.png|svg`, `<stem>_slip.png|svg` and `<stem>_centreline.png|svg` into
+/// `out_dir` from the snapshot `csv` with friction coefficient `mu` (for the traction bound);
+/// returns the PNG file names.
+pub fn write_patch_maps(
+    csv: &Path,
+    mu: f64,
+    time_ms: f64,
+    out_dir: &Path,
+    stem: &str,
+) -> Result<Vec<String>> {
+    let nodes = read_nodes(csv)?;
+    let h = spacing_mm(&nodes);
+    let mut files = Vec::new();
+    let size = Some((900, 700));
+    // Shear map: arrows scaled so that the largest is 1.5 node spacings.
+    let shear = |n: &Node| n.shear_mpa;
+    let smax = max_len(&nodes, shear).max(1e-12);
+    let mut series = markers(&nodes, |n| n.slip_by_bound, "shear at mu p");
+    series.extend(arrows(&nodes, shear, 1.5 * h / smax, 0));
+    if let Some(s) = series.get_mut(2) {
+        s.label = format!("shear stress (longest {smax:.0} MPa)");
+    }
+    let name = format!("{stem}_shear");
+    write(
+        &LineChart {
+            title: format!(
+                "Contact patch at {time_ms:.1} ms: shear stress, adhesion / slip by stress"
+            ),
+            x_label: "x, rolling direction (mm)".into(),
+            y_label: "y, lateral (mm)".into(),
+            series,
+            size_px: size,
+            stroke_width: Some(1),
+            ..Default::default()
+        },
+        Some(&out_dir.join(format!("{name}.png"))),
+        Some(&out_dir.join(format!("{name}.svg"))),
+    )?;
+    files.push(format!("{name}.png"));
+    // Micro-slip map.
+    let slip = |n: &Node| n.slip_m_per_s;
+    let vmax = max_len(&nodes, slip).max(1e-12);
+    let mut series = markers(&nodes, |n| n.slip_by_velocity, "micro-slip");
+    series.extend(arrows(&nodes, slip, 1.5 * h / vmax, 0));
+    if let Some(s) = series.get_mut(2) {
+        s.label = format!("micro-slip velocity (longest {vmax:.3} m/s)");
+    }
+    let name = format!("{stem}_slip");
+    write(
+        &LineChart {
+            title: format!(
+                "Contact patch at {time_ms:.1} ms: micro-slip, adhesion / slip by velocity"
+            ),
+            x_label: "x, rolling direction (mm)".into(),
+            y_label: "y, lateral (mm)".into(),
+            series,
+            size_px: size,
+            stroke_width: Some(1),
+            ..Default::default()
+        },
+        Some(&out_dir.join(format!("{name}.png"))),
+        Some(&out_dir.join(format!("{name}.svg"))),
+    )?;
+    files.push(format!("{name}.png"));
+    // Centre line: the row of nodes closest to y = 0.
+    let y_row = nodes
+        .iter()
+        .map(|n| n.y_mm)
+        .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+        .unwrap_or(0.0);
+    let mut row: Vec<&Node> = nodes
+        .iter()
+        .filter(|n| (n.y_mm - y_row).abs() < 0.5 * h)
+        .collect();
+    row.sort_by(|a, b| a.x_mm.total_cmp(&b.x_mm));
+    let x: Vec<f64> = row.iter().map(|n| n.x_mm).collect();
+    let line = |label: &str, y: Vec<f64>, color: usize| Series {
+        label: label.into(),
+        x: x.clone(),
+        y,
+        stroke: Stroke::SolidWithPoints,
+        color,
+    };
+    let name = format!("{stem}_centreline");
+    write(
+        &LineChart {
+            title: format!("Patch centre line at {time_ms:.1} ms (y = {y_row:.1} mm)"),
+            x_label: "x, rolling direction (mm)".into(),
+            y_label: "stress (MPa)".into(),
+            series: vec![
+                line(
+                    "pressure p",
+                    row.iter().map(|n| n.pressure_mpa).collect(),
+                    0,
+                ),
+                line(
+                    "shear |tau|",
+                    row.iter()
+                        .map(|n| n.shear_mpa[0].hypot(n.shear_mpa[1]))
+                        .collect(),
+                    1,
+                ),
+                line(
+                    &format!("traction bound mu p (mu = {mu:.2})"),
+                    row.iter().map(|n| mu * n.pressure_mpa).collect(),
+                    2,
+                ),
+            ],
+            size_px: size,
+            ..Default::default()
+        },
+        Some(&out_dir.join(format!("{name}.png"))),
+        Some(&out_dir.join(format!("{name}.svg"))),
+    )?;
+    files.push(format!("{name}.png"));
+    Ok(files)
+}
