@@ -67,7 +67,7 @@ fn read_nodes(csv: &Path) -> Result<Vec<Node>> {
     let (vx, vy) = (col("slip_vx_m_per_s")?, col("slip_vy_m_per_s")?);
     let (b, v) = (col("slip_by_bound")?, col("slip_by_velocity")?);
     let total: f64 = p.iter().sum();
-    if x.is_empty() || !(total > 0.0) {
+    if x.is_empty() || total.is_nan() || total <= 0.0 {
         return Err(Error::input(
             &name,
             "pressure_pa",
@@ -102,7 +102,7 @@ fn arrows(
         let v = vector(n);
         let (dx, dy) = (v[0] * scale, v[1] * scale);
         let len = (dx * dx + dy * dy).sqrt();
-        if !(len > 1e-9) {
+        if len.is_nan() || len <= 1e-9 {
             continue;
         }
         let (tx, ty) = (n.x_mm + dx, n.y_mm + dy);
