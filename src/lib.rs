@@ -7,12 +7,14 @@
 pub mod analysis;
 pub mod error;
 pub mod explicit;
+pub mod fem;
 pub mod geometry;
 pub mod hammer;
 pub mod identify;
 pub mod input;
 pub mod kalker;
 pub mod mesh;
+pub mod modal;
 pub mod report;
 pub mod scenario;
 pub mod signal;

@@ -1,0 +1,1 @@
+//! Wheel mode classification (see below).
