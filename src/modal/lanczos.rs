@@ -176,7 +176,9 @@ pub fn solve(
     let mut q: Vec<Vec<f64>> = Vec::new();
     let mut mq: Vec<Vec<f64>> = Vec::new();
     let mut h: Vec<Vec<f64>> = Vec::new(); // h[j][i] = q_iᵀ M Op q_j, i <= j
-    let mut run_ends: Vec<(usize, f64)> = Vec::new(); // (last index of a run, its beta)
+    // Finished runs: (last index of the run, its residual vector beta q_next, kept
+    // M-orthogonal to the growing basis so that its norm bounds what is still unexplained).
+    let mut pending: Vec<(usize, Vec<f64>)> = Vec::new();
     let max_basis = opts.max_basis.min(n);
     let ritz_tol = 1e-10; // relative Ritz residual estimate for "converged" (stops a run)
     let mut runs = 0;
@@ -248,6 +250,10 @@ pub fn solve(
             let j = q.len();
             let mut mv = vec![0.0; n];
             sym_lower_matvec(m, &v, &mut mv);
+            for (_, r) in pending.iter_mut() {
+                let c = dot(&mv, r);
+                r.par_iter_mut().zip(v.par_iter()).for_each(|(a, b)| *a -= c * b);
+            }
             q.push(std::mem::take(&mut v));
             mq.push(mv);
             let mut z = op.apply(&q[j]);
@@ -257,7 +263,8 @@ pub fn solve(
             let exhausted = q.len() >= max_basis || beta <= 1e-13 * h[j][j].abs().max(1e-300);
             if q.len() >= next_check || exhausted {
                 let dim = q.len();
-                let mut ends = run_ends.clone();
+                let mut ends: Vec<(usize, f64)> =
+                    pending.iter().map(|(e, r)| (*e, m_norm(r))).collect();
                 ends.push((dim - 1, beta));
                 let (theta, _, est) = ritz(&h, &ends, dim)?;
                 let scale = theta.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
@@ -265,10 +272,10 @@ pub fn solve(
                 let in_band: Vec<usize> = (0..dim).filter(|&i| theta[i] >= theta_min).collect();
                 let all_conv = in_band.iter().all(|&i| conv(i));
                 let beyond = (0..dim).any(|i| theta[i] < theta_min && theta[i] > 0.0 && conv(i));
-                last_count = in_band.len();
                 if (all_conv && beyond) || exhausted {
+                    last_count = in_band.len();
                     converged_run = all_conv;
-                    run_ends.push((dim - 1, beta));
+                    pending.push((dim - 1, z));
                     break;
                 }
                 next_check = dim + 10.max(dim / 5);
@@ -293,7 +300,7 @@ pub fn solve(
 
     // Ritz vectors in the band, purified, Rayleigh quotients, residuals.
     let dim = q.len();
-    let (theta, u, _) = ritz(&h, &run_ends, dim)?;
+    let (theta, u, _) = ritz(&h, &[], dim)?;
     let wanted: Vec<usize> = (0..dim).filter(|&i| theta[i] >= theta_min * (1.0 - 1e-9)).collect();
     let mut modes: Vec<Mode> = wanted
         .par_iter()
