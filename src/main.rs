@@ -30,6 +30,8 @@ enum Command {
     Wav(cli::signal::WavArgs),
     /// Kalker's rolling contact theory: Hertz, creep forces, force-prescribed creepages.
     Kalker(cli::kalker::KalkerArgs),
+    /// Wheel natural frequencies and mode shapes (3D FE), classified; hammer-test comparison.
+    Modes(cli::modes::ModesArgs),
     /// Benchmarks that print the README's performance figures.
     Bench(cli::bench::BenchArgs),
 }
@@ -51,6 +53,7 @@ fn main() {
         Some(Command::Cwt(args)) => cli::signal::run_cwt(args),
         Some(Command::Wav(args)) => cli::signal::run_wav(args),
         Some(Command::Kalker(args)) => cli::kalker::run(args),
+        Some(Command::Modes(args)) => cli::modes::run(args),
         Some(Command::Bench(args)) => cli::bench::run(args),
     };
     if let Err(e) = result {
