@@ -52,8 +52,16 @@ fn hex8_rigid_modes_mass_and_symmetry() {
                 match mode {
                     0..=2 => (c == mode) as u8 as f64,
                     _ => {
-                        let w = [(mode == 3) as u8 as f64, (mode == 4) as u8 as f64, (mode == 5) as u8 as f64];
-                        let r = [w[1] * p[2] - w[2] * p[1], w[2] * p[0] - w[0] * p[2], w[0] * p[1] - w[1] * p[0]];
+                        let w = [
+                            (mode == 3) as u8 as f64,
+                            (mode == 4) as u8 as f64,
+                            (mode == 5) as u8 as f64,
+                        ];
+                        let r = [
+                            w[1] * p[2] - w[2] * p[1],
+                            w[2] * p[0] - w[0] * p[2],
+                            w[0] * p[1] - w[1] * p[0],
+                        ];
                         r[c]
                     }
                 }
@@ -81,7 +89,9 @@ fn hex8_rigid_modes_mass_and_symmetry() {
     assert!((total_l - rho_v).abs() < 1e-12 * rho_v);
     for i in 0..24 {
         for j in 0..24 {
-            assert!((em.k[i][j] - em.k[j][i]).abs() <= 1e-12 * em.k[i][i].abs().max(em.k[j][j].abs()));
+            assert!(
+                (em.k[i][j] - em.k[j][i]).abs() <= 1e-12 * em.k[i][i].abs().max(em.k[j][j].abs())
+            );
         }
     }
 }
@@ -91,8 +101,18 @@ fn patch_test_linear_field_has_no_interior_force() {
     let mut mesh = cuboid([2, 2, 2], [1.0, 1.0, 1.0], 1);
     let centre = 1 + 3 * (1 + 3); // node (1,1,1)
     mesh.nodes[centre] = [0.45, 0.55, 0.6]; // distorted interior node
-    let a = assemble(&mesh, &steel_nu(0.3), &Constraints::default(), MassKind::Consistent).unwrap();
-    let grad = [[1e-3, 2e-4, -3e-4], [5e-4, -2e-3, 1e-4], [0.0, 3e-4, 1.5e-3]];
+    let a = assemble(
+        &mesh,
+        &steel_nu(0.3),
+        &Constraints::default(),
+        MassKind::Consistent,
+    )
+    .unwrap();
+    let grad = [
+        [1e-3, 2e-4, -3e-4],
+        [5e-4, -2e-3, 1e-4],
+        [0.0, 3e-4, 1.5e-3],
+    ];
     let u: Vec<f64> = mesh
         .nodes
         .iter()
@@ -103,7 +123,11 @@ fn patch_test_linear_field_has_no_interior_force() {
     let scale = f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     for c in 0..3 {
         // interior node: equilibrium of a constant stress state up to round-off
-        assert!(f[3 * centre + c].abs() < 1e-10 * scale, "{}", f[3 * centre + c]);
+        assert!(
+            f[3 * centre + c].abs() < 1e-10 * scale,
+            "{}",
+            f[3 * centre + c]
+        );
     }
 }
 
@@ -116,11 +140,22 @@ fn bar_axial_frequencies(n: usize) -> Vec<f64> {
     let a = assemble(
         &mesh,
         &steel_nu(0.0),
-        &Constraints { clamped_sets: vec!["x0".into()], ties: false },
+        &Constraints {
+            clamped_sets: vec!["x0".into()],
+            ties: false,
+        },
         MassKind::Consistent,
     )
     .unwrap();
-    let sol = solve(&a.k, &a.m, &ModalOptions { fmax_hz: 7000.0, ..Default::default() }).unwrap();
+    let sol = solve(
+        &a.k,
+        &a.m,
+        &ModalOptions {
+            fmax_hz: 7000.0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     sol.modes
         .iter()
         .filter(|m| {
@@ -146,7 +181,15 @@ fn clamped_free_bar_axial_modes_converge_to_analytic() {
     for k in 0..3 {
         let e1 = (coarse[k] - exact[k]) / exact[k];
         let e2 = (fine[k] - exact[k]) / exact[k];
-        println!("axial k={} exact {:.2} n=20 {:.2} ({:+.4}%) n=40 {:.2} ({:+.4}%)", k + 1, exact[k], coarse[k], 100.0 * e1, fine[k], 100.0 * e2);
+        println!(
+            "axial k={} exact {:.2} n=20 {:.2} ({:+.4}%) n=40 {:.2} ({:+.4}%)",
+            k + 1,
+            exact[k],
+            coarse[k],
+            100.0 * e1,
+            fine[k],
+            100.0 * e2
+        );
         // O(h²): the error falls ~4x per halving; consistent mass errs high
         assert!(e2 > 0.0 && e1 > e2 && e1 / e2 > 3.5);
         // second-order error bound ((k pi h / 2L)²/... at most ~0.5 % for the third mode at n=40
@@ -157,9 +200,28 @@ fn clamped_free_bar_axial_modes_converge_to_analytic() {
 #[test]
 fn free_cube_has_six_rigid_modes() {
     let mesh = cuboid([2, 2, 2], [1.0, 1.0, 1.0], 1);
-    let a = assemble(&mesh, &steel_nu(0.3), &Constraints::default(), MassKind::Consistent).unwrap();
-    let sol = solve(&a.k, &a.m, &ModalOptions { fmax_hz: 100.0, ..Default::default() }).unwrap();
-    assert_eq!(sol.modes.len(), 6, "{:?}", sol.modes.iter().map(|m| m.frequency_hz).collect::<Vec<_>>());
+    let a = assemble(
+        &mesh,
+        &steel_nu(0.3),
+        &Constraints::default(),
+        MassKind::Consistent,
+    )
+    .unwrap();
+    let sol = solve(
+        &a.k,
+        &a.m,
+        &ModalOptions {
+            fmax_hz: 100.0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        sol.modes.len(),
+        6,
+        "{:?}",
+        sol.modes.iter().map(|m| m.frequency_hz).collect::<Vec<_>>()
+    );
     assert!(sol.modes.iter().all(|m| m.rigid && m.residual < 1e-8));
 }
 
@@ -169,7 +231,10 @@ fn solver_matches_dense_reference() {
     let a = assemble(
         &mesh,
         &steel_nu(0.3),
-        &Constraints { clamped_sets: vec!["x0".into()], ties: false },
+        &Constraints {
+            clamped_sets: vec!["x0".into()],
+            ties: false,
+        },
         MassKind::Consistent,
     )
     .unwrap();
@@ -193,11 +258,24 @@ fn solver_matches_dense_reference() {
     let ev = c.self_adjoint_eigenvalues(Side::Lower).unwrap();
     let f_ref: Vec<f64> = ev.iter().map(|l| l.sqrt() / (2.0 * PI)).collect();
     let fmax = 0.5 * (f_ref[29] + f_ref[30]);
-    let sol = solve(&a.k, &a.m, &ModalOptions { fmax_hz: fmax, ..Default::default() }).unwrap();
+    let sol = solve(
+        &a.k,
+        &a.m,
+        &ModalOptions {
+            fmax_hz: fmax,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     assert_eq!(sol.modes.len(), 30);
     for (m, fr) in sol.modes.iter().zip(&f_ref) {
         let lam_ref = (2.0 * PI * fr).powi(2);
-        assert!((m.eigenvalue - lam_ref).abs() < 1e-8 * lam_ref, "{} vs {}", m.frequency_hz, fr);
+        assert!(
+            (m.eigenvalue - lam_ref).abs() < 1e-8 * lam_ref,
+            "{} vs {}",
+            m.frequency_hz,
+            fr
+        );
         assert!(m.residual < 1e-8);
     }
 }
@@ -209,7 +287,11 @@ impl LowerInv for faer::MatRef<'_, f64> {
     fn solve_lower_triangular_in_place_copy(self) -> Mat<f64> {
         let n = self.nrows();
         let mut x = Mat::<f64>::identity(n, n);
-        faer::linalg::triangular_solve::solve_lower_triangular_in_place(self, x.as_mut(), faer::Par::Seq);
+        faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+            self,
+            x.as_mut(),
+            faer::Par::Seq,
+        );
         x
     }
 }
@@ -220,14 +302,39 @@ fn bad_band_and_bad_clamp_set_are_errors() {
     let err = assemble(
         &mesh,
         &steel_nu(0.3),
-        &Constraints { clamped_sets: vec!["hub_bore".into()], ties: false },
+        &Constraints {
+            clamped_sets: vec!["hub_bore".into()],
+            ties: false,
+        },
         MassKind::Consistent,
     )
     .unwrap_err();
     assert!(err.to_string().contains("hub_bore"), "{err}");
-    let a = assemble(&mesh, &steel_nu(0.3), &Constraints::default(), MassKind::Consistent).unwrap();
-    assert!(solve(&a.k, &a.m, &ModalOptions { fmax_hz: -5.0, ..Default::default() }).is_err());
-    assert!(solve(&a.k, &a.m, &ModalOptions { fmax_hz: f64::NAN, ..Default::default() }).is_err());
+    let a = assemble(
+        &mesh,
+        &steel_nu(0.3),
+        &Constraints::default(),
+        MassKind::Consistent,
+    )
+    .unwrap();
+    assert!(solve(
+        &a.k,
+        &a.m,
+        &ModalOptions {
+            fmax_hz: -5.0,
+            ..Default::default()
+        }
+    )
+    .is_err());
+    assert!(solve(
+        &a.k,
+        &a.m,
+        &ModalOptions {
+            fmax_hz: f64::NAN,
+            ..Default::default()
+        }
+    )
+    .is_err());
 }
 
 #[test]

@@ -61,7 +61,15 @@ pub fn run(args: ModesArgs) -> Result<()> {
             format!("{} is outside the allowed range (0, 1e6] Hz", args.fmax_hz),
         ));
     }
-    let mut spec: WheelSpec = squeal::input::read_json(&args.wheel)?;
+    // An unreadable wheel file is bad input (exit code 2), named with the option.
+    let mut spec: WheelSpec = squeal::input::read_json(&args.wheel).map_err(|e| match e {
+        Error::Io { path, source } => Error::input(
+            path,
+            "--wheel",
+            format!("cannot read the wheel file ({source}); expected a JSON file like data/wheels/ns_intercity_920.json"),
+        ),
+        other => other,
+    })?;
     if let Some(h) = args.element_size_mm {
         if !(h.is_finite() && (2.0..=200.0).contains(&h)) {
             return Err(Error::input(
@@ -80,10 +88,11 @@ pub fn run(args: ModesArgs) -> Result<()> {
         poisson_ratio: spec.material.poisson_ratio,
         density_kg_per_m3: spec.material.density_kg_per_m3,
     };
-    let materials: BTreeMap<u32, ElasticMaterial> = [material::WHEEL, material::AXLE, material::TREAD_BAND]
-        .into_iter()
-        .map(|id| (id, steel))
-        .collect();
+    let materials: BTreeMap<u32, ElasticMaterial> =
+        [material::WHEEL, material::AXLE, material::TREAD_BAND]
+            .into_iter()
+            .map(|id| (id, steel))
+            .collect();
     let clamped_sets: Vec<String> = match args.clamp {
         Clamp::None => vec![],
         Clamp::HubBore => vec!["hub_bore".into()],
@@ -148,13 +157,29 @@ pub fn run(args: ModesArgs) -> Result<()> {
     let p = args.out.join("modes_detail.json");
     let json = serde_json::to_string_pretty(&records).expect("serialisable");
     std::fs::write(&p, json).map_err(|e| Error::io(&p, e))?;
-    let mut csv = String::from("index,frequency_hz,family,nodal_circles,nodal_diameters,residual,pair,rigid\n");
-    println!("{:>4} {:>10} {:>16} {:>6} {:>10} {:>5}", "#", "f (Hz)", "family", "(m,n)", "residual", "pair");
+    let mut csv = String::from(
+        "index,frequency_hz,family,nodal_circles,nodal_diameters,residual,pair,rigid\n",
+    );
+    println!(
+        "{:>4} {:>10} {:>16} {:>6} {:>10} {:>5}",
+        "#", "f (Hz)", "family", "(m,n)", "residual", "pair"
+    );
     for r in &records {
-        let fam = serde_json::to_value(r.family).expect("family").as_str().unwrap_or("").to_string();
+        let fam = serde_json::to_value(r.family)
+            .expect("family")
+            .as_str()
+            .unwrap_or("")
+            .to_string();
         csv.push_str(&format!(
             "{},{:.6},{},{},{},{:.3e},{},{}\n",
-            r.index, r.frequency_hz, fam, r.nodal_circles, r.nodal_diameters, r.residual, r.is_pair, r.rigid
+            r.index,
+            r.frequency_hz,
+            fam,
+            r.nodal_circles,
+            r.nodal_diameters,
+            r.residual,
+            r.is_pair,
+            r.rigid
         ));
         println!(
             "{:>4} {:>10.2} {:>16} {:>6} {:>10.2e} {:>5}",

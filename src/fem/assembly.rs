@@ -83,7 +83,10 @@ fn expansions(mesh: &Mesh, constraints: &Constraints) -> Result<(Vec<Vec<(usize,
             Error::input(
                 "command line",
                 "clamp",
-                format!("node set `{name}` does not exist; the mesh has: {}", known.join(", ")),
+                format!(
+                    "node set `{name}` does not exist; the mesh has: {}",
+                    known.join(", ")
+                ),
             )
         })?;
         if ids.is_empty() {
@@ -98,7 +101,11 @@ fn expansions(mesh: &Mesh, constraints: &Constraints) -> Result<(Vec<Vec<(usize,
         for tie in &mesh.ties {
             for p in &tie.pairs {
                 slave.entry(p.slave).or_insert_with(|| {
-                    p.master.iter().copied().zip(p.weights.iter().copied()).collect()
+                    p.master
+                        .iter()
+                        .copied()
+                        .zip(p.weights.iter().copied())
+                        .collect()
                 });
             }
         }
@@ -171,7 +178,9 @@ pub fn assemble(
     }
     let (expansion, n_reduced) = expansions(mesh, constraints)?;
     if n_reduced == 0 {
-        return Err(Error::Mesh("every node is constrained: no degrees of freedom left".into()));
+        return Err(Error::Mesh(
+            "every node is constrained: no degrees of freedom left".into(),
+        ));
     }
     let lumped = mass == MassKind::Lumped;
     type Trip = Triplet<usize, usize, f64>;
@@ -185,7 +194,9 @@ pub fn assemble(
                 let x = mesh.element_coords(e);
                 let mat = &materials[&mesh.material[e]];
                 let em = element_matrices(&x, mat, lumped).ok_or_else(|| {
-                    Error::Mesh(format!("element {e} is inverted or degenerate (det J <= 0)"))
+                    Error::Mesh(format!(
+                        "element {e} is inverted or degenerate (det J <= 0)"
+                    ))
                 })?;
                 let conn = &mesh.elements[e];
                 for a in 0..8 {

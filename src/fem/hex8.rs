@@ -156,7 +156,11 @@ pub fn b_matrix(g: &[[f64; 3]; 8]) -> [[f64; 24]; 6] {
 
 /// Stiffness and (consistent or row-sum lumped) mass of one element; `None` for an element with
 /// a non-positive Jacobian determinant at a Gauss point (inverted or degenerate).
-pub fn element_matrices(x: &[P3; 8], mat: &ElasticMaterial, lumped: bool) -> Option<ElementMatrices> {
+pub fn element_matrices(
+    x: &[P3; 8],
+    mat: &ElasticMaterial,
+    lumped: bool,
+) -> Option<ElementMatrices> {
     let d = mat.d_matrix();
     let g = 1.0 / 3f64.sqrt();
     let mut k = [[0.0; 24]; 24];

@@ -82,7 +82,12 @@ pub fn nodal_weights(mesh: &Mesh) -> Vec<f64> {
 }
 
 /// Classify one shape `u` (per node) about the y-parallel axis through `centre`.
-pub fn classify_shape(mesh: &Mesh, weights: &[f64], centre: [f64; 3], u: &[[f64; 3]]) -> ShapeClass {
+pub fn classify_shape(
+    mesh: &Mesh,
+    weights: &[f64],
+    centre: [f64; 3],
+    u: &[[f64; 3]],
+) -> ShapeClass {
     let n_nodes = mesh.node_count();
     let mut cyl = vec![[0.0; 3]; n_nodes]; // axial, radial, circumferential
     let mut radius = vec![0.0; n_nodes];
@@ -94,7 +99,11 @@ pub fn classify_shape(mesh: &Mesh, weights: &[f64], centre: [f64; 3], u: &[[f64;
         let r = dx.hypot(dz);
         radius[i] = r;
         angle[i] = dz.atan2(dx);
-        let (c, s) = if r > 1e-12 { (dx / r, dz / r) } else { (1.0, 0.0) };
+        let (c, s) = if r > 1e-12 {
+            (dx / r, dz / r)
+        } else {
+            (1.0, 0.0)
+        };
         let ur = u[i][0] * c + u[i][2] * s;
         let ut = -u[i][0] * s + u[i][2] * c;
         cyl[i] = [u[i][1], ur, ut];
@@ -104,8 +113,14 @@ pub fn classify_shape(mesh: &Mesh, weights: &[f64], centre: [f64; 3], u: &[[f64;
     }
     let total: f64 = energy.iter().sum::<f64>().max(1e-300);
     let share = energy.map(|e| e / total);
-    let fam_k = (0..3).max_by(|&a, &b| share[a].total_cmp(&share[b])).unwrap_or(0);
-    let family = [ModeFamily::Axial, ModeFamily::Radial, ModeFamily::Circumferential][fam_k];
+    let fam_k = (0..3)
+        .max_by(|&a, &b| share[a].total_cmp(&share[b]))
+        .unwrap_or(0);
+    let family = [
+        ModeFamily::Axial,
+        ModeFamily::Radial,
+        ModeFamily::Circumferential,
+    ][fam_k];
 
     let r_max = radius.iter().cloned().fold(0.0, f64::max);
     let rim: Vec<usize> = (0..n_nodes).filter(|&i| radius[i] > 0.9 * r_max).collect();
@@ -159,7 +174,10 @@ pub fn classify_shape(mesh: &Mesh, weights: &[f64], centre: [f64; 3], u: &[[f64;
             sum[b] += weights[i] * cyl[i][comp];
             cnt[b] += weights[i];
         }
-        let vals: Vec<f64> = (0..bins).filter(|&b| cnt[b] > 0.0).map(|b| sum[b] / cnt[b]).collect();
+        let vals: Vec<f64> = (0..bins)
+            .filter(|&b| cnt[b] > 0.0)
+            .map(|b| sum[b] / cnt[b])
+            .collect();
         let vmax = vals.iter().fold(0.0f64, |a, &v| a.max(v.abs()));
         let mut last_sign = 0.0;
         for v in vals {

@@ -176,8 +176,8 @@ pub fn solve(
     let mut q: Vec<Vec<f64>> = Vec::new();
     let mut mq: Vec<Vec<f64>> = Vec::new();
     let mut h: Vec<Vec<f64>> = Vec::new(); // h[j][i] = q_iᵀ M Op q_j, i <= j
-    // Finished runs: (last index of the run, its residual vector beta q_next, kept
-    // M-orthogonal to the growing basis so that its norm bounds what is still unexplained).
+                                           // Finished runs: (last index of the run, its residual vector beta q_next, kept
+                                           // M-orthogonal to the growing basis so that its norm bounds what is still unexplained).
     let mut pending: Vec<(usize, Vec<f64>)> = Vec::new();
     let max_basis = opts.max_basis.min(n);
     // Relative Ritz residual estimate ||Op x - theta x||_M / theta for "converged": 1e-11 leaves
@@ -206,14 +206,11 @@ pub fn solve(
         total
     };
 
-    let ritz = |h: &[Vec<f64>], run_ends: &[(usize, f64)], dim: usize| -> Result<(Vec<f64>, Mat<f64>, Vec<f64>)> {
-        let hm = Mat::<f64>::from_fn(dim, dim, |i, j| {
-            if i <= j {
-                h[j][i]
-            } else {
-                h[i][j]
-            }
-        });
+    let ritz = |h: &[Vec<f64>],
+                run_ends: &[(usize, f64)],
+                dim: usize|
+     -> Result<(Vec<f64>, Mat<f64>, Vec<f64>)> {
+        let hm = Mat::<f64>::from_fn(dim, dim, |i, j| if i <= j { h[j][i] } else { h[i][j] });
         let evd = hm
             .self_adjoint_eigen(Side::Upper)
             .map_err(|e| Error::Numerical(format!("projected eigen problem failed: {e:?}")))?;
@@ -254,7 +251,9 @@ pub fn solve(
             sym_lower_matvec(m, &v, &mut mv);
             for (_, r) in pending.iter_mut() {
                 let c = dot(&mv, r);
-                r.par_iter_mut().zip(v.par_iter()).for_each(|(a, b)| *a -= c * b);
+                r.par_iter_mut()
+                    .zip(v.par_iter())
+                    .for_each(|(a, b)| *a -= c * b);
             }
             q.push(std::mem::take(&mut v));
             mq.push(mv);
@@ -302,7 +301,9 @@ pub fn solve(
     // Ritz vectors in the band, purified, Rayleigh quotients, residuals.
     let dim = q.len();
     let (theta, u, _) = ritz(&h, &[], dim)?;
-    let wanted: Vec<usize> = (0..dim).filter(|&i| theta[i] >= theta_min * (1.0 - 1e-9)).collect();
+    let wanted: Vec<usize> = (0..dim)
+        .filter(|&i| theta[i] >= theta_min * (1.0 - 1e-9))
+        .collect();
     let mut modes: Vec<Mode> = wanted
         .par_iter()
         .map(|&i| {
@@ -348,7 +349,10 @@ pub fn solve(
         .filter(|mode| mode.eigenvalue <= lambda_max)
         .collect();
     modes.sort_by(|a, b| a.eigenvalue.total_cmp(&b.eigenvalue));
-    if let Some(bad) = modes.iter().find(|m| !(m.residual < opts.residual_tolerance)) {
+    if let Some(bad) = modes
+        .iter()
+        .find(|m| !(m.residual < opts.residual_tolerance))
+    {
         return Err(Error::Numerical(format!(
             "mode at {:.3} Hz has relative residual {:.2e} above the tolerance {:.0e}; \
              the mesh may be badly conditioned (check element quality) or the band too wide",
