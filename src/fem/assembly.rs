@@ -74,7 +74,10 @@ impl Assembled {
 }
 
 /// Node-level expansion lists (see the module docs).
-fn expansions(mesh: &Mesh, constraints: &Constraints) -> Result<(Vec<Vec<(usize, f64)>>, usize)> {
+/// Per node: (first reduced dof, weight) terms.
+type Expansion = Vec<Vec<(usize, f64)>>;
+
+fn expansions(mesh: &Mesh, constraints: &Constraints) -> Result<(Expansion, usize)> {
     let n = mesh.node_count();
     let mut clamped = vec![false; n];
     for name in &constraints.clamped_sets {

@@ -9,6 +9,9 @@
 //!
 //! Degrees of freedom are ordered node-major: `3 a + c` for node `a`, component `c`.
 
+// Index loops mirror the matrix formulas (B, D, J indices); iterator forms would hide them.
+#![allow(clippy::needless_range_loop)]
+
 use crate::mesh::P3;
 use serde::{Deserialize, Serialize};
 

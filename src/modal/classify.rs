@@ -13,6 +13,8 @@
 //!   above 5 % of the largest (smaller ones are treated as near a node line and skipped);
 //! - repeated pairs: neighbours with the same n > 0, same family and `|f1 - f2| / f < 1e-3`.
 
+#![allow(clippy::needless_range_loop)]
+
 use serde::Serialize;
 
 use crate::identify::{ModeFamily, ModeRef};

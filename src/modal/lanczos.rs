@@ -351,7 +351,7 @@ pub fn solve(
     modes.sort_by(|a, b| a.eigenvalue.total_cmp(&b.eigenvalue));
     if let Some(bad) = modes
         .iter()
-        .find(|m| !(m.residual < opts.residual_tolerance))
+        .find(|m| m.residual.is_nan() || m.residual >= opts.residual_tolerance)
     {
         return Err(Error::Numerical(format!(
             "mode at {:.3} Hz has relative residual {:.2e} above the tolerance {:.0e}; \
