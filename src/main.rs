@@ -34,6 +34,8 @@ enum Command {
     Simulate(cli::simulate::SimulateArgs),
     /// Wheel modes by the axisymmetric (Fourier-harmonic) solver: modes.json / modes.csv.
     Axisym(cli::axisym::AxisymArgs),
+    /// Wheel natural frequencies and mode shapes (3D FE), classified; hammer-test comparison.
+    Modes(cli::modes::ModesArgs),
     /// Benchmarks that print the README's performance figures.
     Bench(cli::bench::BenchArgs),
 }
@@ -55,6 +57,7 @@ fn main() {
         Some(Command::Cwt(args)) => cli::signal::run_cwt(args),
         Some(Command::Wav(args)) => cli::signal::run_wav(args),
         Some(Command::Kalker(args)) => cli::kalker::run(args),
+        Some(Command::Modes(args)) => cli::modes::run(args),
         Some(Command::Bench(args)) => cli::bench::run(args),
         Some(Command::Simulate(args)) => cli::simulate::run(args),
         Some(Command::Axisym(args)) => cli::axisym::run(args),

@@ -6,6 +6,7 @@ pub mod default_run;
 pub mod identify;
 pub mod kalker;
 pub mod mesh;
+pub mod modes;
 pub mod profile;
 pub mod report;
 pub mod signal;

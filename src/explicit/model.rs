@@ -175,23 +175,9 @@ impl Model {
         for (id, m) in materials {
             m.validate(source_name, &format!("materials[{id}]"))?;
         }
-        // Tie slaves are moved onto their master faces (by at most the tie's offset, a
-        // fraction of a millimetre on the default meshes). Then `u_s = sum w_i u_i` is exact for
-        // rigid motion: an affine combination of rigidly moving points moves rigidly. With an
-        // offset it is not: a wheel turned by theta would strain its band by ~offset x theta /
-        // element size (percent after a tenth of a turn).
+        // Tie slaves onto their master faces, so that ties are exact under large rotation.
         let mut mesh = mesh;
-        for t in &mut mesh.ties {
-            for p in &mut t.pairs {
-                let x: P3 = [0, 1, 2].map(|d| {
-                    (0..4)
-                        .map(|k| p.weights[k] * mesh.nodes[p.master[k]][d])
-                        .sum::<f64>()
-                });
-                mesh.nodes[p.slave] = x;
-                p.gap_m = 0.0;
-            }
-        }
+        mesh.snap_tie_slaves();
         let n_nodes = mesh.nodes.len();
         let mut nodal_mass_kg = vec![0.0; n_nodes];
         let mut wave_speed = Vec::with_capacity(mesh.elements.len());

@@ -1,0 +1,296 @@
+//! Parallel sparse assembly of K and M with constraint elimination.
+//!
+//! Constraints are eliminated by a transformation `u = T u_r`: clamped nodes (all three dofs)
+//! have no reduced dofs, a tied slave node is `u_s = sum_i w_i u_{m_i}` over its master face
+//! nodes (resolved recursively if a master is itself a slave), every other node keeps its three
+//! dofs. Then `K_r = Tᵀ K T`, `M_r = Tᵀ M T`, formed element by element by expanding each element
+//! dof into its (reduced dof, weight) list, so T is never stored.
+//!
+//! Only the lower triangle (row >= column) of the reduced matrices is stored: it is what the
+//! sparse Cholesky reads, what Matrix Market "symmetric" files hold, and half the memory.
+//! Element matrices are computed in parallel (rayon); the triplet list is concatenated in
+//! element order and summed by faer in a fixed order, so the result does not depend on the
+//! thread count.
+
+use std::collections::{BTreeMap, HashMap};
+
+use faer::sparse::{SparseColMat, Triplet};
+use rayon::prelude::*;
+
+use super::hex8::{element_matrices, ElasticMaterial};
+use crate::mesh::Mesh;
+use crate::{Error, Result};
+
+/// Material per element material id.
+pub type Materials = BTreeMap<u32, ElasticMaterial>;
+
+/// Which mass matrix to assemble.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MassKind {
+    /// Consistent (variationally consistent, 2x2x2 Gauss).
+    Consistent,
+    /// Row-sum lumped (diagonal).
+    Lumped,
+}
+
+/// Constraints to eliminate.
+#[derive(Clone, Debug, Default)]
+pub struct Constraints {
+    /// Names of node sets whose nodes are clamped (all three dofs zero).
+    pub clamped_sets: Vec<String>,
+    /// Apply the mesh's tied interfaces (`mesh.ties`).
+    pub ties: bool,
+}
+
+/// Reduced K and M plus the map back to the full node displacements.
+#[derive(Debug)]
+pub struct Assembled {
+    /// Reduced stiffness, lower triangle only.
+    pub k: SparseColMat<usize, f64>,
+    /// Reduced mass, lower triangle only.
+    pub m: SparseColMat<usize, f64>,
+    /// Per mesh node: (first reduced dof of a retained node, weight); empty for clamped nodes.
+    pub expansion: Vec<Vec<(usize, f64)>>,
+    /// Number of reduced dofs.
+    pub n_reduced: usize,
+}
+
+impl Assembled {
+    /// Full nodal displacements `u = T u_r` of a reduced vector.
+    pub fn expand(&self, reduced: &[f64]) -> Vec<[f64; 3]> {
+        self.expansion
+            .iter()
+            .map(|terms| {
+                let mut u = [0.0; 3];
+                for &(base, w) in terms {
+                    for c in 0..3 {
+                        u[c] += w * reduced[base + c];
+                    }
+                }
+                u
+            })
+            .collect()
+    }
+}
+
+/// Node-level expansion lists (see the module docs).
+/// Per node: (first reduced dof, weight) terms.
+type Expansion = Vec<Vec<(usize, f64)>>;
+
+fn expansions(mesh: &Mesh, constraints: &Constraints) -> Result<(Expansion, usize)> {
+    let n = mesh.node_count();
+    let mut clamped = vec![false; n];
+    for name in &constraints.clamped_sets {
+        let ids = mesh.node_set(name).ok_or_else(|| {
+            let known: Vec<&str> = mesh.node_sets.keys().map(|s| s.as_str()).collect();
+            Error::input(
+                "command line",
+                "clamp",
+                format!(
+                    "node set `{name}` does not exist; the mesh has: {}",
+                    known.join(", ")
+                ),
+            )
+        })?;
+        if ids.is_empty() {
+            return Err(Error::Mesh(format!("clamped node set `{name}` is empty")));
+        }
+        for &i in ids {
+            clamped[i] = true;
+        }
+    }
+    let mut slave: HashMap<usize, Vec<(usize, f64)>> = HashMap::new();
+    if constraints.ties {
+        for tie in &mesh.ties {
+            for p in &tie.pairs {
+                slave.entry(p.slave).or_insert_with(|| {
+                    p.master
+                        .iter()
+                        .copied()
+                        .zip(p.weights.iter().copied())
+                        .collect()
+                });
+            }
+        }
+    }
+    let mut base = vec![usize::MAX; n];
+    let mut count = 0;
+    for i in 0..n {
+        if !clamped[i] && !slave.contains_key(&i) {
+            base[i] = count;
+            count += 3;
+        }
+    }
+    fn resolve(
+        i: usize,
+        depth: usize,
+        clamped: &[bool],
+        slave: &HashMap<usize, Vec<(usize, f64)>>,
+        base: &[usize],
+        out: &mut Vec<(usize, f64)>,
+        w: f64,
+    ) -> Result<()> {
+        if clamped[i] {
+            return Ok(());
+        }
+        if let Some(masters) = slave.get(&i) {
+            if depth > 8 {
+                return Err(Error::Mesh(format!("tie chain through node {i} is cyclic")));
+            }
+            for &(m, wm) in masters {
+                resolve(m, depth + 1, clamped, slave, base, out, w * wm)?;
+            }
+            return Ok(());
+        }
+        out.push((base[i], w));
+        Ok(())
+    }
+    let mut exp = Vec::with_capacity(n);
+    for i in 0..n {
+        let mut terms = Vec::new();
+        resolve(i, 0, &clamped, &slave, &base, &mut terms, 1.0)?;
+        // merge repeated bases (a slave reaching the same master twice), drop zero weights
+        terms.sort_by_key(|t| t.0);
+        let mut merged: Vec<(usize, f64)> = Vec::with_capacity(terms.len());
+        for (b, w) in terms {
+            match merged.last_mut() {
+                Some(last) if last.0 == b => last.1 += w,
+                _ => merged.push((b, w)),
+            }
+        }
+        merged.retain(|t| t.1 != 0.0);
+        exp.push(merged);
+    }
+    Ok((exp, count))
+}
+
+/// Assemble reduced K and M (lower triangles) of `mesh` with `materials` under `constraints`.
+pub fn assemble(
+    mesh: &Mesh,
+    materials: &Materials,
+    constraints: &Constraints,
+    mass: MassKind,
+) -> Result<Assembled> {
+    for (e, id) in mesh.material.iter().enumerate() {
+        if !materials.contains_key(id) {
+            return Err(Error::Mesh(format!(
+                "element {e} has material id {id} but no material was given for it (known ids: {:?})",
+                materials.keys().collect::<Vec<_>>()
+            )));
+        }
+    }
+    let (expansion, n_reduced) = expansions(mesh, constraints)?;
+    if n_reduced == 0 {
+        return Err(Error::Mesh(
+            "every node is constrained: no degrees of freedom left".into(),
+        ));
+    }
+    let lumped = mass == MassKind::Lumped;
+    type Trip = Triplet<usize, usize, f64>;
+    let chunks: Vec<Result<(Vec<Trip>, Vec<Trip>)>> = (0..mesh.element_count())
+        .collect::<Vec<_>>()
+        .par_chunks(256)
+        .map(|chunk| {
+            let mut tk = Vec::new();
+            let mut tm = Vec::new();
+            for &e in chunk {
+                let x = mesh.element_coords(e);
+                let mat = &materials[&mesh.material[e]];
+                let em = element_matrices(&x, mat, lumped).ok_or_else(|| {
+                    Error::Mesh(format!(
+                        "element {e} is inverted or degenerate (det J <= 0)"
+                    ))
+                })?;
+                let conn = &mesh.elements[e];
+                for a in 0..8 {
+                    for b in 0..8 {
+                        for &(ra, wa) in &expansion[conn[a]] {
+                            for &(rb, wb) in &expansion[conn[b]] {
+                                let w = wa * wb;
+                                for ca in 0..3 {
+                                    for cb in 0..3 {
+                                        let (i, j) = (ra + ca, rb + cb);
+                                        if i < j {
+                                            continue;
+                                        }
+                                        let kv = em.k[3 * a + ca][3 * b + cb];
+                                        if kv != 0.0 {
+                                            tk.push(Triplet::new(i, j, w * kv));
+                                        }
+                                        let mv = em.m[3 * a + ca][3 * b + cb];
+                                        if mv != 0.0 {
+                                            tm.push(Triplet::new(i, j, w * mv));
+                                        }
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            Ok((tk, tm))
+        })
+        .collect();
+    let mut tk = Vec::new();
+    let mut tm = Vec::new();
+    for c in chunks {
+        let (a, b) = c?;
+        tk.extend(a);
+        tm.extend(b);
+    }
+    let build = |t: &[Trip]| {
+        SparseColMat::<usize, f64>::try_new_from_triplets(n_reduced, n_reduced, t)
+            .map_err(|e| Error::Numerical(format!("sparse matrix creation failed: {e:?}")))
+    };
+    let k = build(&tk)?;
+    drop(tk);
+    let m = build(&tm)?;
+    Ok(Assembled {
+        k,
+        m,
+        expansion,
+        n_reduced,
+    })
+}
+
+/// `y = A x` for a symmetric matrix stored as its lower triangle.
+pub fn sym_lower_matvec(a: &SparseColMat<usize, f64>, x: &[f64], y: &mut [f64]) {
+    y.iter_mut().for_each(|v| *v = 0.0);
+    let col_ptr = a.symbolic().col_ptr();
+    let row_idx = a.symbolic().row_idx();
+    let val = a.val();
+    for j in 0..a.ncols() {
+        let xj = x[j];
+        let mut acc = 0.0;
+        for p in col_ptr[j]..col_ptr[j + 1] {
+            let i = row_idx[p];
+            let v = val[p];
+            y[i] += v * xj;
+            if i != j {
+                acc += v * x[i];
+            }
+        }
+        y[j] += acc;
+    }
+}
+
+/// Write a symmetric matrix (lower triangle) as Matrix Market coordinate real symmetric, 1-based,
+/// full precision.
+pub fn write_matrix_market(a: &SparseColMat<usize, f64>, path: &std::path::Path) -> Result<()> {
+    use std::io::Write;
+    let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+    let mut w = std::io::BufWriter::new(file);
+    let col_ptr = a.symbolic().col_ptr();
+    let row_idx = a.symbolic().row_idx();
+    let val = a.val();
+    let io = |e| Error::io(path, e);
+    writeln!(w, "%%MatrixMarket matrix coordinate real symmetric").map_err(io)?;
+    writeln!(w, "% written by squeal (lower triangle, 1-based)").map_err(io)?;
+    writeln!(w, "{} {} {}", a.nrows(), a.ncols(), val.len()).map_err(io)?;
+    for j in 0..a.ncols() {
+        for p in col_ptr[j]..col_ptr[j + 1] {
+            writeln!(w, "{} {} {:.17e}", row_idx[p] + 1, j + 1, val[p]).map_err(io)?;
+        }
+    }
+    w.flush().map_err(io)
+}

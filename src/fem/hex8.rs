@@ -1,0 +1,223 @@
+//! Linear-elastic 8-node hexahedron (trilinear, VTK node order), full 2x2x2 Gauss integration.
+//!
+//! With shape functions `N_a(xi, eta, zeta) = (1 + xi xi_a)(1 + eta eta_a)(1 + zeta zeta_a) / 8`,
+//! the strain `eps = B u` (Voigt order xx, yy, zz, xy, yz, zx with engineering shears) and the
+//! isotropic elasticity matrix `D(E, nu)`:
+//! - stiffness  `K_e = sum_g B_gᵀ D B_g det J_g w_g`,
+//! - consistent mass `M_e = sum_g rho N_gᵀ N_g det J_g w_g` (3 dofs per node, same scalar block),
+//! - lumped mass: the row sums of the consistent mass (all positive for the trilinear hex).
+//!
+//! Degrees of freedom are ordered node-major: `3 a + c` for node `a`, component `c`.
+
+// Index loops mirror the matrix formulas (B, D, J indices); iterator forms would hide them.
+#![allow(clippy::needless_range_loop)]
+
+use crate::mesh::P3;
+use serde::{Deserialize, Serialize};
+
+/// Isotropic linear-elastic material.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ElasticMaterial {
+    /// Young's modulus (Pa).
+    pub youngs_modulus_pa: f64,
+    /// Poisson's ratio (-).
+    pub poisson_ratio: f64,
+    /// Density (kg/m³).
+    pub density_kg_per_m3: f64,
+}
+
+impl ElasticMaterial {
+    /// Structural steel as in ../shared/DATA.md section 3 (E = 210 GPa, nu = 0.3, rho = 7850).
+    pub fn steel() -> Self {
+        ElasticMaterial {
+            youngs_modulus_pa: 210e9,
+            poisson_ratio: 0.3,
+            density_kg_per_m3: 7850.0,
+        }
+    }
+
+    /// The 6x6 isotropic elasticity matrix (Voigt, engineering shear strains).
+    pub fn d_matrix(&self) -> [[f64; 6]; 6] {
+        let e = self.youngs_modulus_pa;
+        let nu = self.poisson_ratio;
+        let lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        let mu = e / (2.0 * (1.0 + nu));
+        let mut d = [[0.0; 6]; 6];
+        for i in 0..3 {
+            for j in 0..3 {
+                d[i][j] = lambda;
+            }
+            d[i][i] = lambda + 2.0 * mu;
+            d[i + 3][i + 3] = mu;
+        }
+        d
+    }
+}
+
+/// Reference coordinates of the 8 nodes (VTK order).
+pub const NODE_XI: [[f64; 3]; 8] = [
+    [-1.0, -1.0, -1.0],
+    [1.0, -1.0, -1.0],
+    [1.0, 1.0, -1.0],
+    [-1.0, 1.0, -1.0],
+    [-1.0, -1.0, 1.0],
+    [1.0, -1.0, 1.0],
+    [1.0, 1.0, 1.0],
+    [-1.0, 1.0, 1.0],
+];
+
+/// Element stiffness and mass (24x24, row-major).
+#[derive(Clone, Debug)]
+pub struct ElementMatrices {
+    /// Stiffness.
+    pub k: [[f64; 24]; 24],
+    /// Mass (consistent or lumped, as requested).
+    pub m: [[f64; 24]; 24],
+    /// Element volume (m³).
+    pub volume: f64,
+}
+
+/// Shape functions and their reference derivatives at a point.
+fn shape(xi: [f64; 3]) -> ([f64; 8], [[f64; 3]; 8]) {
+    let mut n = [0.0; 8];
+    let mut dn = [[0.0; 3]; 8];
+    for a in 0..8 {
+        let p = NODE_XI[a];
+        let f = [1.0 + p[0] * xi[0], 1.0 + p[1] * xi[1], 1.0 + p[2] * xi[2]];
+        n[a] = 0.125 * f[0] * f[1] * f[2];
+        dn[a] = [
+            0.125 * p[0] * f[1] * f[2],
+            0.125 * f[0] * p[1] * f[2],
+            0.125 * f[0] * f[1] * p[2],
+        ];
+    }
+    (n, dn)
+}
+
+/// Physical shape-function gradients and det J at a reference point; `None` if det J <= 0.
+fn gradients(x: &[P3; 8], xi: [f64; 3]) -> Option<([f64; 8], [[f64; 3]; 8], f64)> {
+    let (n, dn) = shape(xi);
+    // J[i][j] = d x_j / d xi_i
+    let mut j = [[0.0; 3]; 3];
+    for a in 0..8 {
+        for i in 0..3 {
+            for k in 0..3 {
+                j[i][k] += dn[a][i] * x[a][k];
+            }
+        }
+    }
+    let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+        + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
+    if det <= 0.0 || !det.is_finite() {
+        return None;
+    }
+    let inv = [
+        [
+            (j[1][1] * j[2][2] - j[1][2] * j[2][1]) / det,
+            (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det,
+            (j[0][1] * j[1][2] - j[0][2] * j[1][1]) / det,
+        ],
+        [
+            (j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det,
+            (j[0][0] * j[2][2] - j[0][2] * j[2][0]) / det,
+            (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det,
+        ],
+        [
+            (j[1][0] * j[2][1] - j[1][1] * j[2][0]) / det,
+            (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det,
+            (j[0][0] * j[1][1] - j[0][1] * j[1][0]) / det,
+        ],
+    ];
+    // dN/dx_k = sum_i (J^-1)[k][i] dN/dxi_i
+    let mut g = [[0.0; 3]; 8];
+    for a in 0..8 {
+        for k in 0..3 {
+            g[a][k] = (0..3).map(|i| inv[k][i] * dn[a][i]).sum();
+        }
+    }
+    Some((n, g, det))
+}
+
+/// The 6x24 strain-displacement matrix from physical gradients.
+pub fn b_matrix(g: &[[f64; 3]; 8]) -> [[f64; 24]; 6] {
+    let mut b = [[0.0; 24]; 6];
+    for a in 0..8 {
+        let c = 3 * a;
+        b[0][c] = g[a][0];
+        b[1][c + 1] = g[a][1];
+        b[2][c + 2] = g[a][2];
+        b[3][c] = g[a][1];
+        b[3][c + 1] = g[a][0];
+        b[4][c + 1] = g[a][2];
+        b[4][c + 2] = g[a][1];
+        b[5][c] = g[a][2];
+        b[5][c + 2] = g[a][0];
+    }
+    b
+}
+
+/// Stiffness and (consistent or row-sum lumped) mass of one element; `None` for an element with
+/// a non-positive Jacobian determinant at a Gauss point (inverted or degenerate).
+pub fn element_matrices(
+    x: &[P3; 8],
+    mat: &ElasticMaterial,
+    lumped: bool,
+) -> Option<ElementMatrices> {
+    let d = mat.d_matrix();
+    let g = 1.0 / 3f64.sqrt();
+    let mut k = [[0.0; 24]; 24];
+    let mut ms = [[0.0; 8]; 8];
+    let mut volume = 0.0;
+    for &a in &[-g, g] {
+        for &b in &[-g, g] {
+            for &c in &[-g, g] {
+                let (n, grad, det) = gradients(x, [a, b, c])?;
+                volume += det;
+                let bm = b_matrix(&grad);
+                // DB (6x24)
+                let mut db = [[0.0; 24]; 6];
+                for i in 0..6 {
+                    for j in 0..24 {
+                        db[i][j] = (0..6).map(|l| d[i][l] * bm[l][j]).sum::<f64>() * det;
+                    }
+                }
+                for i in 0..24 {
+                    for j in i..24 {
+                        let mut s = 0.0;
+                        for l in 0..6 {
+                            s += bm[l][i] * db[l][j];
+                        }
+                        k[i][j] += s;
+                    }
+                }
+                for p in 0..8 {
+                    for q in 0..8 {
+                        ms[p][q] += mat.density_kg_per_m3 * n[p] * n[q] * det;
+                    }
+                }
+            }
+        }
+    }
+    for i in 0..24 {
+        for j in 0..i {
+            k[i][j] = k[j][i];
+        }
+    }
+    let mut m = [[0.0; 24]; 24];
+    for p in 0..8 {
+        if lumped {
+            let row: f64 = ms[p].iter().sum();
+            for c in 0..3 {
+                m[3 * p + c][3 * p + c] = row;
+            }
+        } else {
+            for q in 0..8 {
+                for c in 0..3 {
+                    m[3 * p + c][3 * q + c] = ms[p][q];
+                }
+            }
+        }
+    }
+    Some(ElementMatrices { k, m, volume })
+}

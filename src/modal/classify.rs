@@ -1,0 +1,248 @@
+//! Classification of wheel modes (axis = y through `centre`; x along the track, z up).
+//!
+//! For a mode shape `u` (per node) and nodal mass weights `w` (element volume / 8 per node, the
+//! row-sum lumped mass up to the density):
+//! - cylindrical components about the axis: radial `u_r`, circumferential `u_t`, axial `u_y`;
+//! - family: the component with the largest share of modal kinetic energy `sum w |u_c|²`;
+//! - nodal diameters n: circumferential Fourier amplitudes of the rim motion (nodes with
+//!   radius > 0.9 R_max), `a_0 = |sum w u| / sum w`, `a_n = 2 |sum w u e^{-i n theta}| / sum w`,
+//!   summed in power over the three components; n maximises it;
+//! - nodal circles m: at the angle of largest rim motion, the family component (axial for axial
+//!   modes, radial for radial, circumferential otherwise) averaged in radial bins from the
+//!   innermost to the outermost radius; m = number of sign changes between bins whose value is
+//!   above 5 % of the largest (smaller ones are treated as near a node line and skipped);
+//! - repeated pairs: neighbours with the same n > 0, same family and `|f1 - f2| / f < 1e-3`.
+
+#![allow(clippy::needless_range_loop)]
+
+use serde::Serialize;
+
+use crate::identify::{ModeFamily, ModeRef};
+use crate::mesh::Mesh;
+
+/// A classified mode.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModeRecord {
+    /// 0-based index in the classified list (pairs count once).
+    pub index: usize,
+    /// Frequency (Hz; the mean of a pair).
+    pub frequency_hz: f64,
+    /// Family (rigid modes: `Rigid`).
+    pub family: ModeFamily,
+    /// Nodal circles.
+    pub nodal_circles: u32,
+    /// Nodal diameters.
+    pub nodal_diameters: u32,
+    /// Largest relative residual of the members.
+    pub residual: f64,
+    /// Two members (sin/cos pair).
+    pub is_pair: bool,
+    /// Rigid-body mode.
+    pub rigid: bool,
+    /// Indices of the member modes in the solver's list.
+    pub members: Vec<usize>,
+    /// Kinetic energy shares (axial, radial, circumferential).
+    pub energy_share: [f64; 3],
+}
+
+impl ModeRecord {
+    /// The identification's view of the mode.
+    pub fn mode_ref(&self) -> ModeRef {
+        ModeRef {
+            frequency_hz: self.frequency_hz,
+            family: self.family,
+            nodal_circles: self.nodal_circles,
+            nodal_diameters: self.nodal_diameters,
+        }
+    }
+}
+
+/// Shape descriptors of one mode.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShapeClass {
+    /// Family by energy share.
+    pub family: ModeFamily,
+    /// Nodal diameters.
+    pub nodal_diameters: u32,
+    /// Nodal circles.
+    pub nodal_circles: u32,
+    /// Energy shares (axial, radial, circumferential).
+    pub energy_share: [f64; 3],
+}
+
+/// Nodal weights: element volume / 8 to each node.
+pub fn nodal_weights(mesh: &Mesh) -> Vec<f64> {
+    let mut w = vec![0.0; mesh.node_count()];
+    for (e, conn) in mesh.elements.iter().enumerate() {
+        let x = mesh.element_coords(e);
+        let v = crate::mesh::hex::volume(&x).abs();
+        for &n in conn {
+            w[n] += v / 8.0;
+        }
+    }
+    w
+}
+
+/// Classify one shape `u` (per node) about the y-parallel axis through `centre`.
+pub fn classify_shape(
+    mesh: &Mesh,
+    weights: &[f64],
+    centre: [f64; 3],
+    u: &[[f64; 3]],
+) -> ShapeClass {
+    let n_nodes = mesh.node_count();
+    let mut cyl = vec![[0.0; 3]; n_nodes]; // axial, radial, circumferential
+    let mut radius = vec![0.0; n_nodes];
+    let mut angle = vec![0.0; n_nodes];
+    let mut energy = [0.0; 3];
+    for i in 0..n_nodes {
+        let dx = mesh.nodes[i][0] - centre[0];
+        let dz = mesh.nodes[i][2] - centre[2];
+        let r = dx.hypot(dz);
+        radius[i] = r;
+        angle[i] = dz.atan2(dx);
+        let (c, s) = if r > 1e-12 {
+            (dx / r, dz / r)
+        } else {
+            (1.0, 0.0)
+        };
+        let ur = u[i][0] * c + u[i][2] * s;
+        let ut = -u[i][0] * s + u[i][2] * c;
+        cyl[i] = [u[i][1], ur, ut];
+        for k in 0..3 {
+            energy[k] += weights[i] * cyl[i][k] * cyl[i][k];
+        }
+    }
+    let total: f64 = energy.iter().sum::<f64>().max(1e-300);
+    let share = energy.map(|e| e / total);
+    let fam_k = (0..3)
+        .max_by(|&a, &b| share[a].total_cmp(&share[b]))
+        .unwrap_or(0);
+    let family = [
+        ModeFamily::Axial,
+        ModeFamily::Radial,
+        ModeFamily::Circumferential,
+    ][fam_k];
+
+    let r_max = radius.iter().cloned().fold(0.0, f64::max);
+    let rim: Vec<usize> = (0..n_nodes).filter(|&i| radius[i] > 0.9 * r_max).collect();
+    let wsum: f64 = rim.iter().map(|&i| weights[i]).sum::<f64>().max(1e-300);
+    let n_max = 24usize;
+    let mut best = (0u32, -1.0);
+    for n in 0..=n_max {
+        let mut power = 0.0;
+        for k in 0..3 {
+            let (mut re, mut im) = (0.0, 0.0);
+            for &i in &rim {
+                let a = n as f64 * angle[i];
+                re += weights[i] * cyl[i][k] * a.cos();
+                im -= weights[i] * cyl[i][k] * a.sin();
+            }
+            let amp = re.hypot(im) / wsum * if n == 0 { 1.0 } else { 2.0 };
+            power += amp * amp;
+        }
+        // strictly larger by a relative margin: prefer the lower harmonic on ties (round-off)
+        if power > best.1 * (1.0 + 1e-9) {
+            best = (n as u32, power);
+        }
+    }
+    let nodal_diameters = best.0;
+
+    // Nodal circles along the radius at the angle of largest rim motion.
+    let comp = fam_k;
+    let peak = rim
+        .iter()
+        .copied()
+        .max_by(|&a, &b| cyl[a][comp].abs().total_cmp(&cyl[b][comp].abs()));
+    let mut nodal_circles = 0;
+    if let Some(p) = peak {
+        let theta0 = angle[p];
+        let r_min = radius.iter().cloned().fold(f64::INFINITY, f64::min);
+        // nodes within a small angular window of theta0 (revolved meshes: the same meridian)
+        let window = 0.02;
+        let bins = 24usize;
+        let mut sum = vec![0.0; bins];
+        let mut cnt = vec![0.0; bins];
+        for i in 0..n_nodes {
+            let mut d = (angle[i] - theta0).rem_euclid(std::f64::consts::TAU);
+            if d > std::f64::consts::PI {
+                d -= std::f64::consts::TAU;
+            }
+            if d.abs() * radius[i] > window * r_max {
+                continue;
+            }
+            let b = (((radius[i] - r_min) / (r_max - r_min + 1e-300)) * bins as f64) as usize;
+            let b = b.min(bins - 1);
+            sum[b] += weights[i] * cyl[i][comp];
+            cnt[b] += weights[i];
+        }
+        let vals: Vec<f64> = (0..bins)
+            .filter(|&b| cnt[b] > 0.0)
+            .map(|b| sum[b] / cnt[b])
+            .collect();
+        let vmax = vals.iter().fold(0.0f64, |a, &v| a.max(v.abs()));
+        let mut last_sign = 0.0;
+        for v in vals {
+            if v.abs() < 0.05 * vmax {
+                continue;
+            }
+            let s = v.signum();
+            if last_sign != 0.0 && s != last_sign {
+                nodal_circles += 1;
+            }
+            last_sign = s;
+        }
+    }
+    ShapeClass {
+        family,
+        nodal_diameters,
+        nodal_circles,
+        energy_share: share,
+    }
+}
+
+/// Classify solver modes (ascending frequency); merges sin/cos pairs and flags rigid modes.
+pub fn classify_modes(
+    mesh: &Mesh,
+    centre: [f64; 3],
+    modes: &[(f64, f64, bool, Vec<[f64; 3]>)],
+) -> Vec<ModeRecord> {
+    let weights = nodal_weights(mesh);
+    let classes: Vec<ShapeClass> = modes
+        .iter()
+        .map(|(_, _, _, u)| classify_shape(mesh, &weights, centre, u))
+        .collect();
+    let mut out: Vec<ModeRecord> = Vec::new();
+    let mut i = 0;
+    while i < modes.len() {
+        let (f, res, rigid, _) = &modes[i];
+        let c = &classes[i];
+        let pair = !rigid
+            && i + 1 < modes.len()
+            && !modes[i + 1].2
+            && c.nodal_diameters > 0
+            && classes[i + 1].nodal_diameters == c.nodal_diameters
+            && classes[i + 1].family == c.family
+            // 1e-3: a revolved mesh makes the pair equal to round-off; a real pair split
+            // (asymmetric mesh, ties) stays far below it, distinct modes far above.
+            && (modes[i + 1].0 - f).abs() / f.abs().max(1e-300) < 1e-3;
+        let members: Vec<usize> = if pair { vec![i, i + 1] } else { vec![i] };
+        let freq = members.iter().map(|&k| modes[k].0).sum::<f64>() / members.len() as f64;
+        let residual = members.iter().map(|&k| modes[k].1).fold(0.0, f64::max);
+        out.push(ModeRecord {
+            index: out.len(),
+            frequency_hz: freq,
+            family: if *rigid { ModeFamily::Rigid } else { c.family },
+            nodal_circles: c.nodal_circles,
+            nodal_diameters: c.nodal_diameters,
+            residual,
+            is_pair: pair,
+            rigid: *rigid,
+            members,
+            energy_share: c.energy_share,
+        });
+        let _ = res;
+        i += if pair { 2 } else { 1 };
+    }
+    out
+}

@@ -1,0 +1,372 @@
+//! Modal analysis: hex8 element, assembly, shift-invert Lanczos against analytic and dense
+//! references, residuals, error paths, classification.
+
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+
+use faer::{Mat, Side};
+use squeal::fem::hex8::{element_matrices, ElasticMaterial};
+use squeal::fem::{assemble, Constraints, MassKind, Materials};
+use squeal::identify::ModeFamily;
+use squeal::mesh::cuboid;
+use squeal::modal::classify::{classify_shape, nodal_weights};
+use squeal::modal::{solve, ModalOptions};
+
+fn steel_nu(nu: f64) -> Materials {
+    let mut m = BTreeMap::new();
+    m.insert(
+        1,
+        ElasticMaterial {
+            poisson_ratio: nu,
+            ..ElasticMaterial::steel()
+        },
+    );
+    m
+}
+
+fn unit_cube() -> [[f64; 3]; 8] {
+    // slightly distorted so that the test is not special to a cube
+    [
+        [0.0, 0.0, 0.0],
+        [1.1, 0.0, 0.05],
+        [1.0, 0.9, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.1, 1.0],
+        [1.0, 0.0, 1.2],
+        [1.0, 1.0, 1.0],
+        [-0.1, 1.0, 1.0],
+    ]
+}
+
+#[test]
+fn hex8_rigid_modes_mass_and_symmetry() {
+    let x = unit_cube();
+    let mat = ElasticMaterial::steel();
+    let em = element_matrices(&x, &mat, false).unwrap();
+    // rigid translations and rotations: K u = 0
+    for mode in 0..6 {
+        let u: Vec<f64> = (0..24)
+            .map(|d| {
+                let (a, c) = (d / 3, d % 3);
+                let p = x[a];
+                match mode {
+                    0..=2 => (c == mode) as u8 as f64,
+                    _ => {
+                        let w = [
+                            (mode == 3) as u8 as f64,
+                            (mode == 4) as u8 as f64,
+                            (mode == 5) as u8 as f64,
+                        ];
+                        let r = [
+                            w[1] * p[2] - w[2] * p[1],
+                            w[2] * p[0] - w[0] * p[2],
+                            w[0] * p[1] - w[1] * p[0],
+                        ];
+                        r[c]
+                    }
+                }
+            })
+            .collect();
+        let ku: f64 = (0..24)
+            .map(|i| (0..24).map(|j| em.k[i][j] * u[j]).sum::<f64>().abs())
+            .fold(0.0, f64::max);
+        let kmax = em.k.iter().flatten().fold(0.0f64, |a, &b| a.max(b.abs()));
+        // relative to the largest entry: round-off of a 24-term sum
+        assert!(ku < 1e-12 * kmax, "mode {mode}: |K u| = {ku}");
+    }
+    let km = Mat::<f64>::from_fn(24, 24, |i, j| em.k[i][j]);
+    let ev = km.self_adjoint_eigenvalues(Side::Lower).unwrap();
+    let top = ev[23];
+    let zeros = ev.iter().filter(|v| v.abs() < 1e-10 * top).count();
+    assert_eq!(zeros, 6, "{ev:?}");
+    assert!(ev[6] > 1e-4 * top);
+    // consistent mass: each component's block sums to rho V; lumped equal
+    let total: f64 = em.m.iter().flatten().sum::<f64>() / 3.0;
+    let rho_v = mat.density_kg_per_m3 * em.volume;
+    assert!((total - rho_v).abs() < 1e-12 * rho_v);
+    let lm = element_matrices(&x, &mat, true).unwrap();
+    let total_l: f64 = (0..24).map(|i| lm.m[i][i]).sum::<f64>() / 3.0;
+    assert!((total_l - rho_v).abs() < 1e-12 * rho_v);
+    for i in 0..24 {
+        for j in 0..24 {
+            assert!(
+                (em.k[i][j] - em.k[j][i]).abs() <= 1e-12 * em.k[i][i].abs().max(em.k[j][j].abs())
+            );
+        }
+    }
+}
+
+#[test]
+fn patch_test_linear_field_has_no_interior_force() {
+    let mut mesh = cuboid([2, 2, 2], [1.0, 1.0, 1.0], 1);
+    let centre = 1 + 3 * (1 + 3); // node (1,1,1)
+    mesh.nodes[centre] = [0.45, 0.55, 0.6]; // distorted interior node
+    let a = assemble(
+        &mesh,
+        &steel_nu(0.3),
+        &Constraints::default(),
+        MassKind::Consistent,
+    )
+    .unwrap();
+    let grad = [
+        [1e-3, 2e-4, -3e-4],
+        [5e-4, -2e-3, 1e-4],
+        [0.0, 3e-4, 1.5e-3],
+    ];
+    let u: Vec<f64> = mesh
+        .nodes
+        .iter()
+        .flat_map(|p| (0..3).map(move |c| (0..3).map(|k| grad[c][k] * p[k]).sum::<f64>()))
+        .collect();
+    let mut f = vec![0.0; u.len()];
+    squeal::fem::assembly::sym_lower_matvec(&a.k, &u, &mut f);
+    let scale = f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for c in 0..3 {
+        // interior node: equilibrium of a constant stress state up to round-off
+        assert!(
+            f[3 * centre + c].abs() < 1e-10 * scale,
+            "{}",
+            f[3 * centre + c]
+        );
+    }
+}
+
+/// Axial modes of a clamped-free bar: f_k = (2k - 1) / (4 L) sqrt(E / rho). With nu = 0 the 3D
+/// bar's axial motion is exactly one-dimensional, so the only error is the discretisation along
+/// the bar, O(h²) (consistent mass: from above).
+fn bar_axial_frequencies(n: usize) -> Vec<f64> {
+    let l = 1.0;
+    let mesh = cuboid([n, 1, 1], [l, 0.05, 0.05], 1);
+    let a = assemble(
+        &mesh,
+        &steel_nu(0.0),
+        &Constraints {
+            clamped_sets: vec!["x0".into()],
+            ties: false,
+        },
+        MassKind::Consistent,
+    )
+    .unwrap();
+    let sol = solve(
+        &a.k,
+        &a.m,
+        &ModalOptions {
+            fmax_hz: 7000.0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    sol.modes
+        .iter()
+        .filter(|m| {
+            let u = a.expand(&m.vector);
+            let ex: f64 = u.iter().map(|v| v[0] * v[0]).sum();
+            let et: f64 = u.iter().map(|v| v.iter().map(|c| c * c).sum::<f64>()).sum();
+            ex > 0.99 * et
+        })
+        .map(|m| {
+            assert!(m.residual < 1e-8);
+            m.frequency_hz
+        })
+        .collect()
+}
+
+#[test]
+fn clamped_free_bar_axial_modes_converge_to_analytic() {
+    let c = (210e9f64 / 7850.0).sqrt();
+    let exact: Vec<f64> = (1..=3).map(|k| (2 * k - 1) as f64 / 4.0 * c).collect();
+    let coarse = bar_axial_frequencies(20);
+    let fine = bar_axial_frequencies(40);
+    assert!(coarse.len() >= 3 && fine.len() >= 3, "{coarse:?} {fine:?}");
+    for k in 0..3 {
+        let e1 = (coarse[k] - exact[k]) / exact[k];
+        let e2 = (fine[k] - exact[k]) / exact[k];
+        println!(
+            "axial k={} exact {:.2} n=20 {:.2} ({:+.4}%) n=40 {:.2} ({:+.4}%)",
+            k + 1,
+            exact[k],
+            coarse[k],
+            100.0 * e1,
+            fine[k],
+            100.0 * e2
+        );
+        // O(h²): the error falls ~4x per halving; consistent mass errs high
+        assert!(e2 > 0.0 && e1 > e2 && e1 / e2 > 3.5);
+        // second-order error bound ((k pi h / 2L)²/... at most ~0.5 % for the third mode at n=40
+        assert!(e2 < 5e-3);
+    }
+}
+
+#[test]
+fn free_cube_has_six_rigid_modes() {
+    let mesh = cuboid([2, 2, 2], [1.0, 1.0, 1.0], 1);
+    let a = assemble(
+        &mesh,
+        &steel_nu(0.3),
+        &Constraints::default(),
+        MassKind::Consistent,
+    )
+    .unwrap();
+    let sol = solve(
+        &a.k,
+        &a.m,
+        &ModalOptions {
+            fmax_hz: 100.0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        sol.modes.len(),
+        6,
+        "{:?}",
+        sol.modes.iter().map(|m| m.frequency_hz).collect::<Vec<_>>()
+    );
+    assert!(sol.modes.iter().all(|m| m.rigid && m.residual < 1e-8));
+}
+
+#[test]
+fn solver_matches_dense_reference() {
+    let mesh = cuboid([4, 2, 2], [0.4, 0.1, 0.1], 1);
+    let a = assemble(
+        &mesh,
+        &steel_nu(0.3),
+        &Constraints {
+            clamped_sets: vec!["x0".into()],
+            ties: false,
+        },
+        MassKind::Consistent,
+    )
+    .unwrap();
+    let n = a.n_reduced;
+    let dense = |s: &faer::sparse::SparseColMat<usize, f64>| {
+        let mut d = Mat::<f64>::zeros(n, n);
+        let cp = s.symbolic().col_ptr();
+        let ri = s.symbolic().row_idx();
+        for j in 0..n {
+            for p in cp[j]..cp[j + 1] {
+                d[(ri[p], j)] = s.val()[p];
+                d[(j, ri[p])] = s.val()[p];
+            }
+        }
+        d
+    };
+    let (k, m) = (dense(&a.k), dense(&a.m));
+    let l = m.llt(Side::Lower).unwrap().L().to_owned();
+    let linv = l.as_ref().solve_lower_triangular_in_place_copy();
+    let c = &linv * &k * linv.transpose();
+    let ev = c.self_adjoint_eigenvalues(Side::Lower).unwrap();
+    let f_ref: Vec<f64> = ev.iter().map(|l| l.sqrt() / (2.0 * PI)).collect();
+    let fmax = 0.5 * (f_ref[29] + f_ref[30]);
+    let sol = solve(
+        &a.k,
+        &a.m,
+        &ModalOptions {
+            fmax_hz: fmax,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(sol.modes.len(), 30);
+    for (m, fr) in sol.modes.iter().zip(&f_ref) {
+        let lam_ref = (2.0 * PI * fr).powi(2);
+        assert!(
+            (m.eigenvalue - lam_ref).abs() < 1e-8 * lam_ref,
+            "{} vs {}",
+            m.frequency_hz,
+            fr
+        );
+        assert!(m.residual < 1e-8);
+    }
+}
+
+trait LowerInv {
+    fn solve_lower_triangular_in_place_copy(self) -> Mat<f64>;
+}
+impl LowerInv for faer::MatRef<'_, f64> {
+    fn solve_lower_triangular_in_place_copy(self) -> Mat<f64> {
+        let n = self.nrows();
+        let mut x = Mat::<f64>::identity(n, n);
+        faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+            self,
+            x.as_mut(),
+            faer::Par::Seq,
+        );
+        x
+    }
+}
+
+#[test]
+fn bad_band_and_bad_clamp_set_are_errors() {
+    let mesh = cuboid([2, 1, 1], [0.2, 0.1, 0.1], 1);
+    let err = assemble(
+        &mesh,
+        &steel_nu(0.3),
+        &Constraints {
+            clamped_sets: vec!["hub_bore".into()],
+            ties: false,
+        },
+        MassKind::Consistent,
+    )
+    .unwrap_err();
+    assert!(err.to_string().contains("hub_bore"), "{err}");
+    let a = assemble(
+        &mesh,
+        &steel_nu(0.3),
+        &Constraints::default(),
+        MassKind::Consistent,
+    )
+    .unwrap();
+    assert!(solve(
+        &a.k,
+        &a.m,
+        &ModalOptions {
+            fmax_hz: -5.0,
+            ..Default::default()
+        }
+    )
+    .is_err());
+    assert!(solve(
+        &a.k,
+        &a.m,
+        &ModalOptions {
+            fmax_hz: f64::NAN,
+            ..Default::default()
+        }
+    )
+    .is_err());
+}
+
+#[test]
+fn synthetic_ring_cos3_axial_is_n3_axial() {
+    // ring: a cuboid bent into an annulus around the y axis (radius 0.3..0.46 m)
+    let nth = 48;
+    let mut mesh = cuboid([nth, 1, 3], [1.0, 0.02, 1.0], 1);
+    for p in mesh.nodes.iter_mut() {
+        let th = 2.0 * PI * p[0] * (nth as f64 - 1e-9) / nth as f64;
+        let r = 0.3 + 0.16 * p[2];
+        *p = [r * th.cos(), p[1], r * th.sin()];
+    }
+    let w = nodal_weights(&mesh);
+    let u: Vec<[f64; 3]> = mesh
+        .nodes
+        .iter()
+        .map(|p| [0.0, (3.0 * p[2].atan2(p[0])).cos(), 0.0])
+        .collect();
+    let c = classify_shape(&mesh, &w, [0.0; 3], &u);
+    assert_eq!(c.family, ModeFamily::Axial);
+    assert_eq!(c.nodal_diameters, 3);
+    assert_eq!(c.nodal_circles, 0);
+    // radial cos(2θ): n = 2, radial
+    let u: Vec<[f64; 3]> = mesh
+        .nodes
+        .iter()
+        .map(|p| {
+            let th = p[2].atan2(p[0]);
+            let a = (2.0 * th).cos();
+            [a * th.cos(), 0.0, a * th.sin()]
+        })
+        .collect();
+    let c = classify_shape(&mesh, &w, [0.0; 3], &u);
+    assert_eq!((c.family, c.nodal_diameters), (ModeFamily::Radial, 2));
+}
