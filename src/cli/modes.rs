@@ -127,10 +127,9 @@ pub fn run(args: ModesArgs) -> Result<()> {
         &asm.m,
         &ModalOptions {
             fmax_hz: args.fmax_hz,
-            // The tied web zones (slave nodes a little off their master faces) give the free
-            // wheel's rigid modes a few Hz of round-off stiffness; its first flexible mode is
-            // hundreds of Hz, so 10 Hz separates them safely.
-            rigid_below_hz: 10.0,
+            // Tie slaves are snapped onto their faces, so the free wheel's rigid modes are exact
+            // (below 1e-2 Hz); its first flexible mode is hundreds of Hz.
+            rigid_below_hz: 1.0,
             ..Default::default()
         },
     )?;
