@@ -155,6 +155,8 @@ pub struct ContactPair {
     pub state: Vec<SlaveState>,
     reference: Vec<P3>,
     search_margin_m: f64,
+    /// How far a master node may move before the grid is rebuilt: a quarter of the median
+    /// face size.
     rebuild_distance_m: f64,
     grid: BucketGrid,
     positions_at_build: Vec<P3>,
@@ -349,7 +351,7 @@ impl ContactPair {
         let pos = |n: usize| -> P3 { [0, 1, 2].map(|i| self.reference[n][i] + u[n][i]) };
         // Widening of each face box: half the search margin (how far faces may move before a
         // rebuild) plus the deepest penetration searched below that face (its own size).
-        let margin = self.rebuild_distance_m();
+        let margin = self.rebuild_distance_m;
         let mut sizes: Vec<f64> = Vec::with_capacity(self.faces.len());
         let boxes: Vec<(P3, P3)> = self
             .faces
@@ -436,14 +438,8 @@ impl ContactPair {
         self.positions_at_build = (0..self.reference.len()).map(pos).collect();
     }
 
-    /// How far a master node may move before the grid is rebuilt: a quarter of the median
-    /// face size (set at the first build).
-    fn rebuild_distance_m(&self) -> f64 {
-        self.rebuild_distance_m
-    }
-
     fn needs_rebuild(&self, u: &[P3]) -> bool {
-        let limit = self.rebuild_distance_m();
+        let limit = self.rebuild_distance_m;
         let limit2 = limit * limit;
         // Only the master faces are binned; slaves look up the cell of their current position,
         // so a rolling wheel's slaves never force a rebuild.

@@ -12,6 +12,7 @@
 // Index loops mirror the matrix formulas (B, D, J indices); iterator forms would hide them.
 #![allow(clippy::needless_range_loop)]
 
+use crate::explicit::element::NODE_NATURAL;
 use crate::mesh::P3;
 use serde::{Deserialize, Serialize};
 
@@ -54,18 +55,6 @@ impl ElasticMaterial {
     }
 }
 
-/// Reference coordinates of the 8 nodes (VTK order).
-pub const NODE_XI: [[f64; 3]; 8] = [
-    [-1.0, -1.0, -1.0],
-    [1.0, -1.0, -1.0],
-    [1.0, 1.0, -1.0],
-    [-1.0, 1.0, -1.0],
-    [-1.0, -1.0, 1.0],
-    [1.0, -1.0, 1.0],
-    [1.0, 1.0, 1.0],
-    [-1.0, 1.0, 1.0],
-];
-
 /// Element stiffness and mass (24x24, row-major).
 #[derive(Clone, Debug)]
 pub struct ElementMatrices {
@@ -82,7 +71,7 @@ fn shape(xi: [f64; 3]) -> ([f64; 8], [[f64; 3]; 8]) {
     let mut n = [0.0; 8];
     let mut dn = [[0.0; 3]; 8];
     for a in 0..8 {
-        let p = NODE_XI[a];
+        let p = NODE_NATURAL[a];
         let f = [1.0 + p[0] * xi[0], 1.0 + p[1] * xi[1], 1.0 + p[2] * xi[2]];
         n[a] = 0.125 * f[0] * f[1] * f[2];
         dn[a] = [

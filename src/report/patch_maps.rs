@@ -21,45 +21,11 @@ struct Node {
     slip_by_velocity: bool,
 }
 
-/// Numeric columns of a CSV file by header.
-fn read_columns(path: &Path) -> Result<Table> {
-    let name = path.display().to_string();
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(file);
-    let headers: Vec<String> = reader
-        .headers()
-        .map_err(|e| Error::input(&name, "header", e.to_string()))?
-        .iter()
-        .map(str::to_string)
-        .collect();
-    let mut columns = vec![Vec::new(); headers.len()];
-    for (line, rec) in reader.records().enumerate() {
-        let rec =
-            rec.map_err(|e| Error::input(&name, format!("line {}", line + 2), e.to_string()))?;
-        for (k, field) in rec.iter().enumerate().take(headers.len()) {
-            let v = field.parse::<f64>().map_err(|_| {
-                Error::input(
-                    &name,
-                    format!("line {}, column `{}`", line + 2, headers[k]),
-                    format!("`{field}` is not a number"),
-                )
-            })?;
-            columns[k].push(v);
-        }
-    }
-    Ok(Table { headers, columns })
-}
-
 fn read_nodes(csv: &Path) -> Result<Vec<Node>> {
-    let t = read_columns(csv)?;
+    let t = Table::read_numeric(csv)?;
     let name = csv.display().to_string();
     let col = |h: &str| -> Result<&[f64]> {
-        t.headers
-            .iter()
-            .position(|x| x == h)
-            .map(|k| t.columns[k].as_slice())
+        t.column(h)
             .ok_or_else(|| Error::input(&name, h, "column missing from the patch snapshot"))
     };
     let (x, y, p) = (col("x_m")?, col("y_m")?, col("pressure_pa")?);
@@ -181,6 +147,16 @@ fn markers(nodes: &[Node], slip: impl Fn(&Node) -> bool, criterion: &str) -> Vec
     ]
 }
 
+/// One patch map: the vector drawn as arrows and the slip criterion of the markers.
+struct MapSpec {
+    suffix: &'static str,
+    what: &'static str,
+    vector: fn(&Node) -> [f64; 2],
+    slips: fn(&Node) -> bool,
+    criterion: &'static str,
+    arrow_label: &'static str,
+}
+
 /// Writes `<stem>_shear.png|svg`, `<stem>_slip.png|svg` and `<stem>_centreline.png|svg` into
 /// `out_dir` from the snapshot `csv` with friction coefficient `mu` (for the traction bound);
 /// returns the PNG file names.
@@ -195,56 +171,57 @@ pub fn write_patch_maps(
     let h = spacing_mm(&nodes);
     let mut files = Vec::new();
     let size = Some((900, 700));
-    // Shear map: arrows scaled so that the largest is 1.5 node spacings.
-    let shear = |n: &Node| n.shear_mpa;
-    let smax = max_len(&nodes, shear).max(1e-12);
-    let mut series = markers(&nodes, |n| n.slip_by_bound, "shear at mu p");
-    series.extend(arrows(&nodes, shear, 1.5 * h / smax, 0));
-    if let Some(s) = series.get_mut(2) {
-        s.label = format!("shear stress (longest {smax:.0} MPa)");
-    }
-    let name = format!("{stem}_shear");
-    write(
-        &LineChart {
-            title: format!(
-                "Contact patch at {time_ms:.1} ms: shear stress, adhesion / slip by stress"
-            ),
-            x_label: "x, rolling direction (mm)".into(),
-            y_label: "y, lateral (mm)".into(),
-            series,
-            size_px: size,
-            stroke_width: Some(1),
-            ..Default::default()
+    // The two maps: markers by a slip criterion, arrows scaled so that the longest is 1.5
+    // node spacings.
+    let maps = [
+        MapSpec {
+            suffix: "shear",
+            what: "shear stress, adhesion / slip by stress",
+            vector: |n| n.shear_mpa,
+            slips: |n| n.slip_by_bound,
+            criterion: "shear at mu p",
+            arrow_label: "shear stress (longest {} MPa)",
         },
-        Some(&out_dir.join(format!("{name}.png"))),
-        Some(&out_dir.join(format!("{name}.svg"))),
-    )?;
-    files.push(format!("{name}.png"));
-    // Micro-slip map.
-    let slip = |n: &Node| n.slip_m_per_s;
-    let vmax = max_len(&nodes, slip).max(1e-12);
-    let mut series = markers(&nodes, |n| n.slip_by_velocity, "micro-slip");
-    series.extend(arrows(&nodes, slip, 1.5 * h / vmax, 0));
-    if let Some(s) = series.get_mut(2) {
-        s.label = format!("micro-slip velocity (longest {vmax:.3} m/s)");
-    }
-    let name = format!("{stem}_slip");
-    write(
-        &LineChart {
-            title: format!(
-                "Contact patch at {time_ms:.1} ms: micro-slip, adhesion / slip by velocity"
-            ),
-            x_label: "x, rolling direction (mm)".into(),
-            y_label: "y, lateral (mm)".into(),
-            series,
-            size_px: size,
-            stroke_width: Some(1),
-            ..Default::default()
+        MapSpec {
+            suffix: "slip",
+            what: "micro-slip, adhesion / slip by velocity",
+            vector: |n| n.slip_m_per_s,
+            slips: |n| n.slip_by_velocity,
+            criterion: "micro-slip",
+            arrow_label: "micro-slip velocity (longest {} m/s)",
         },
-        Some(&out_dir.join(format!("{name}.png"))),
-        Some(&out_dir.join(format!("{name}.svg"))),
-    )?;
-    files.push(format!("{name}.png"));
+    ];
+    for MapSpec {
+        suffix,
+        what,
+        vector,
+        slips,
+        criterion,
+        arrow_label,
+    } in maps
+    {
+        let longest = max_len(&nodes, vector).max(1e-12);
+        let mut series = markers(&nodes, slips, criterion);
+        series.extend(arrows(&nodes, vector, 1.5 * h / longest, 0));
+        if let Some(s) = series.get_mut(2) {
+            s.label = arrow_label.replace("{}", &format!("{longest:.3}"));
+        }
+        let name = format!("{stem}_{suffix}");
+        write(
+            &LineChart {
+                title: format!("Contact patch at {time_ms:.1} ms: {what}"),
+                x_label: "x, rolling direction (mm)".into(),
+                y_label: "y, lateral (mm)".into(),
+                series,
+                size_px: size,
+                stroke_width: Some(1),
+                ..Default::default()
+            },
+            Some(&out_dir.join(format!("{name}.png"))),
+            Some(&out_dir.join(format!("{name}.svg"))),
+        )?;
+        files.push(format!("{name}.png"));
+    }
     // Centre line: the row of nodes closest to y = 0.
     let y_row = nodes
         .iter()

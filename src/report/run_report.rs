@@ -31,8 +31,21 @@ pub struct Table {
 }
 
 impl Table {
-    /// Read a numeric CSV file.
+    /// Read a numeric CSV file with a `time_s` column.
     pub fn read(path: &Path) -> Result<Table> {
+        let table = Table::read_numeric(path)?;
+        if !table.headers.iter().any(|h| h == "time_s") {
+            return Err(Error::input(
+                path.display().to_string(),
+                "time_s",
+                format!("no `time_s` column; columns: {}", table.headers.join(", ")),
+            ));
+        }
+        Ok(table)
+    }
+
+    /// Read a numeric CSV file (any columns).
+    pub fn read_numeric(path: &Path) -> Result<Table> {
         let name = path.display().to_string();
         let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
         let mut reader = csv::ReaderBuilder::new()
@@ -58,13 +71,6 @@ impl Table {
                 })?;
                 columns[k].push(v);
             }
-        }
-        if !headers.iter().any(|h| h == "time_s") {
-            return Err(Error::input(
-                &name,
-                "time_s",
-                format!("no `time_s` column; columns: {}", headers.join(", ")),
-            ));
         }
         Ok(Table { headers, columns })
     }

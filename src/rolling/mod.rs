@@ -284,7 +284,9 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
     let static_wheel_load_n = (wheelset_mass + case.sprung_mass_kg) * G_M_PER_S2;
     // The penalty of light slaves is capped so that contact does not lower the elements' step.
     let mut pair = pair;
-    let element_step_s = smallest_element_transit_s(&model);
+    let element_step_s = element_transits_s(&model)
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
     let capped = pair.cap_stiffness_for_step(&model.nodal_mass_kg, element_step_s);
     let bound = pair.time_step_bound_s(&model.nodal_mass_kg);
     model.register_time_step_bound("contact penalty", bound);
@@ -319,7 +321,7 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         slip_threshold_m_per_s: case.output.slip_threshold_m_per_s,
         writer: None,
         out_dir: PathBuf::new(),
-        resume_time_s: None,
+        resuming: false,
         lost_since_s: None,
         longest_loss_s: 0.0,
     };
@@ -333,8 +335,8 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
     })
 }
 
-/// The smallest element transit `L / c` of the model (s), the elements' own stable step.
-fn smallest_element_transit_s(model: &Model) -> f64 {
+/// Transit time `L / c` of every element (s): the elements' own stable steps.
+fn element_transits_s(model: &Model) -> Vec<f64> {
     let mesh = &model.mesh;
     mesh.elements
         .iter()
@@ -343,7 +345,7 @@ fn smallest_element_transit_s(model: &Model) -> f64 {
             let x: [P3; 8] = std::array::from_fn(|a| mesh.nodes[conn[a]]);
             crate::mesh::hex::characteristic_length(&x) / model.element_wave_speed_m_per_s[e]
         })
-        .fold(f64::INFINITY, f64::min)
+        .collect()
 }
 
 /// Inertia to add per node so that the preload can run at step `dt_s` (with the engine's 0.9
@@ -361,11 +363,10 @@ pub fn preload_scaling(
     let n = model.nodal_mass_kg.len();
     let mut added = vec![0.0; n];
     let mesh = &model.mesh;
+    let transits = element_transits_s(model);
     for (e, conn) in mesh.elements.iter().enumerate() {
         let x: [P3; 8] = std::array::from_fn(|a| mesh.nodes[conn[a]]);
-        let transit =
-            crate::mesh::hex::characteristic_length(&x) / model.element_wave_speed_m_per_s[e];
-        let ratio = (dt_s / (0.9 * transit)).powi(2);
+        let ratio = (dt_s / (0.9 * transits[e])).powi(2);
         if ratio <= 1.0 {
             continue;
         }
@@ -473,7 +474,8 @@ pub struct RollingContact {
     slip_threshold_m_per_s: f64,
     writer: Option<BufWriter<File>>,
     out_dir: PathBuf,
-    resume_time_s: Option<f64>,
+    /// The run resumes from a checkpoint: `contact_forces.csv` is cut at the first sample.
+    resuming: bool,
     /// Start of the current loss of contact (s), if the wheel is off the rail.
     lost_since_s: Option<f64>,
     /// Longest loss of contact so far (s).
@@ -487,13 +489,12 @@ impl RollingContact {
     fn write_forces(&mut self, time_s: f64) -> Result<()> {
         let path = self.out_dir.join("contact_forces.csv");
         if self.writer.is_none() {
-            let append = match self.resume_time_s {
-                Some(t) if path.exists() => {
-                    truncate_csv_after(&path, t)?;
-                    true
-                }
-                _ => false,
-            };
+            // On resume, the first sample is the first after the checkpoint: rows from its time
+            // on are rewritten.
+            let append = self.resuming && path.exists();
+            if append {
+                truncate_csv_after(&path, time_s)?;
+            }
             let file = std::fs::OpenOptions::new()
                 .create(true)
                 .write(true)
@@ -828,12 +829,8 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         progress: opts.progress,
         balance_threshold: 0.05,
     };
-    let summary = if opts.resume {
-        // The checkpoint sets the time; contact_forces.csv is cut there on first write.
-        run_resumed(&mut m, &run_opts)?
-    } else {
-        run(&mut m.solver, &mut m.contact, &run_opts)?
-    };
+    m.contact.resuming = opts.resume;
+    let summary = run(&mut m.solver, &mut m.contact, &run_opts)?;
     m.contact.flush()?;
     let (traction, initial_n) =
         force_statistics(&opts.out_dir.join("contact_forces.csv"), case.end_time_s);
@@ -903,44 +900,6 @@ fn centre_probes(hub: &[usize]) -> Vec<HistoryProbe> {
         }
     }
     out
-}
-
-fn run_resumed(m: &mut RollingModel, run_opts: &RunOptions) -> Result<RunSummary> {
-    // `run` restores the solver from the checkpoint before the first sample; the contact
-    // writer then cuts its file at the restored time.
-    struct Resumed<'a>(&'a mut RollingContact, bool);
-    impl AuxForces for Resumed<'_> {
-        fn add_forces(&mut self, t: f64, dt: f64, u: &[P3], v: &[P3], f: &mut [P3]) {
-            if !self.1 {
-                self.0.resume_time_s = Some(t);
-                self.1 = true;
-            }
-            self.0.add_forces(t, dt, u, v, f);
-        }
-        fn on_sample(&mut self, t: f64, d: &Path) -> Result<()> {
-            self.0.on_sample(t, d)
-        }
-        fn history_columns(&self) -> Vec<String> {
-            self.0.history_columns()
-        }
-        fn push_history_values(
-            &mut self,
-            t: f64,
-            r: &[P3],
-            o: &OutputFields,
-            row: &mut String,
-        ) -> Result<()> {
-            self.0.push_history_values(t, r, o, row)
-        }
-        fn checkpoint_state(&self) -> Vec<f64> {
-            self.0.checkpoint_state()
-        }
-        fn restore_state(&mut self, s: &[f64]) -> Result<()> {
-            self.0.restore_state(s)
-        }
-    }
-    let mut wrapped = Resumed(&mut m.contact, false);
-    run(&mut m.solver, &mut wrapped, run_opts)
 }
 
 /// Mean traction coefficient over the last quarter of the run and the mean normal force over
