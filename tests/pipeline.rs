@@ -48,7 +48,7 @@ fn reduced_default_run_writes_a_complete_report() {
 #[test]
 #[ignore]
 fn full_default_run() {
-    let case = squeal::rolling::embedded_quick_case().unwrap();
+    let case = squeal::rolling::embedded_default_case().unwrap();
     let dir = std::env::temp_dir().join(format!("squeal_default_{}", std::process::id()));
     let summary = run_pipeline(
         &case,

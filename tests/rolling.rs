@@ -105,6 +105,11 @@ fn bad_case_files_name_the_field() {
             "penalty_scale",
         ),
         ("\"mu\": 0.45", "\"mu\": 7.0", "friction"),
+        (
+            "\"penalty_scale\": 0.1",
+            "\"creepage\": {\"start\": 0.0, \"end\": 0.5, \"start_s\": 0.0, \"end_s\": 0.001}, \"penalty_scale\": 0.1",
+            "creepage",
+        ),
         ("\"end_time_s\": 0.002", "\"end_time_s\": 5.0", "end_time_s"),
         (
             "\"model_scenario\": \"ci-tiny.json\"",
@@ -189,4 +194,178 @@ fn resumed_run_matches_the_uninterrupted_one() {
         assert_eq!(a, b, "{f} differs after resume");
     }
     let _ = std::fs::remove_dir_all(&base);
+}
+
+/// Issue 5: "the normal force equals the applied load within 1 % after preload". The tiny
+/// model relaxed to the 1e-3 residual carries the wheelset and sprung weight on the rail: the
+/// vertical contact force (the normal force's vertical part plus friction, which is zero at
+/// rest) balances `(m_wheelset + m_sprung) g`. 1 %: the residual bound 1e-3 of a reference
+/// force about twice the load leaves at most 0.2 % of out-of-balance; the rest is margin for
+/// the suspension, whose sprung mass is put back at its static offset between stages.
+#[test]
+fn preloaded_wheel_carries_the_static_load() {
+    let mut loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    loaded.case.preload.max_steps = 20_000;
+    loaded.case.preload.damping_per_s = 450.0;
+    let dir = std::env::temp_dir().join(format!("squeal_rolling_static_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let record = simulate(
+        &loaded,
+        &SimulateOptions {
+            out_dir: dir.clone(),
+            resume: false,
+            progress: false,
+            end_time_s: Some(2e-5),
+        },
+    )
+    .unwrap();
+    let preload = record.preload.expect("preload report");
+    assert!(preload.converged, "{preload:?}");
+    let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
+    let vertical = column(&forces, "vertical_force_n")[0];
+    let load = record.model.static_wheel_load_n;
+    assert!(
+        (vertical - load).abs() < 0.01 * load,
+        "vertical contact force {vertical} N vs static wheel load {load} N"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// With no lateral motion of the axle the creep force stays longitudinal: the half wheelset
+/// turns only about its axle, so no yaw angle (a lateral creepage) builds up under the single
+/// wheel's traction. Before the axle ends were joined into one body turning about y, the
+/// lateral friction force of the demo model grew by about 11 kN per ms from the start and
+/// reached the traction bound within 5 ms.
+#[test]
+fn without_lateral_motion_the_creep_force_stays_longitudinal() {
+    let mut loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    loaded.case.lateral_motion = None; // case 1
+    loaded.case.torque.ramp_end_s = 0.001;
+    let dir = std::env::temp_dir().join(format!("squeal_rolling_nolat_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    simulate(
+        &loaded,
+        &SimulateOptions {
+            out_dir: dir.clone(),
+            resume: false,
+            progress: false,
+            end_time_s: None,
+        },
+    )
+    .unwrap();
+    let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
+    let t = column(&forces, "time_s");
+    let lateral = column(&forces, "lateral_creep_force_n");
+    let longitudinal = column(&forces, "longitudinal_creep_force_n");
+    let bound = column(&forces, "traction_bound_n");
+    let late: Vec<usize> = (0..t.len()).filter(|&k| t[k] >= 0.001).collect();
+    let mean = |c: &[f64]| late.iter().map(|&k| c[k]).sum::<f64>() / late.len() as f64;
+    let (fy, fx, fb) = (mean(lateral), mean(longitudinal), mean(bound));
+    // The torque drives: a longitudinal creep force of the order of the traction it was sized
+    // for (13.7 kN m / 0.46 m = 30 kN) once ramped. The lateral part is spin creep from the
+    // tread's conicity and the rail crown, a few kN at most (Kalker's C23 term for a spin of
+    // about 0.05 1/m is about 2 kN); 15 % of the traction bound is far below the saturation the
+    // yaw drift produced.
+    assert!(fx > 10e3, "longitudinal creep force {fx} N");
+    assert!(
+        fy.abs() < 0.15 * fb,
+        "lateral creep force {fy} N, bound {fb} N"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 5, steady rolling with a prescribed longitudinal creepage: the axle is held at the
+/// rolling speed and spun at `V (1 + xi) / R` with xi ramped slowly from 0 to 1.5 %. The creep
+/// force follows the creepage up and saturates at the traction bound mu N (Coulomb), as
+/// Carter's and Kalker's theories say; at xi = 0 it is small. The tiny model's tread band
+/// (10 mm) resolves the 14 mm patch with one or two nodes along the rolling direction, so the
+/// shape of the curve is coarse: the test checks growth and saturation, not the slope (the
+/// README reports the curve against Kalker on the demo model).
+#[test]
+fn prescribed_creepage_traces_a_saturating_creep_curve() {
+    let mut loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    loaded.case.lateral_motion = None;
+    loaded.case.torque.max_n_m = 0.0;
+    loaded.case.end_time_s = 0.0095; // the 40-degree tread band lasts about 10 ms
+    loaded.case.creepage = Some(squeal::rolling::case::CreepageRamp {
+        start: 0.0,
+        end: 0.015,
+        start_s: 0.001,
+        end_s: 0.009,
+    });
+    loaded.case.output.patch_times_s.clear();
+    loaded.case.output.vtu_times_s.clear();
+    loaded.case.validate("test").unwrap();
+    let dir = std::env::temp_dir().join(format!("squeal_rolling_creep_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let record = simulate(
+        &loaded,
+        &SimulateOptions {
+            out_dir: dir.clone(),
+            resume: false,
+            progress: false,
+            end_time_s: None,
+        },
+    )
+    .unwrap();
+    assert_eq!(record.run.status, "completed");
+    let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
+    let t = column(&forces, "time_s");
+    let fx = column(&forces, "longitudinal_creep_force_n");
+    let creep = column(&forces, "creep_force_n");
+    let bound = column(&forces, "traction_bound_n");
+    // Mean of Fx / (mu N) over a time window (the wheel bounces, so N and the bound vary).
+    let ratio = |from: f64, to: f64| {
+        let (mut num, mut den) = (0.0, 0.0);
+        for k in 0..t.len() {
+            if t[k] >= from && t[k] < to {
+                num += fx[k];
+                den += bound[k];
+            }
+        }
+        num / den
+    };
+    let free = ratio(0.0, 0.001);
+    let bins: Vec<f64> = (0..4)
+        .map(|b| ratio(0.001 + 0.002 * b as f64, 0.003 + 0.002 * b as f64))
+        .collect();
+    let saturated = ratio(0.0085, 0.0095);
+    eprintln!("Fx/(mu N): free rolling {free:.3}, ramp bins {bins:.3?}, end {saturated:.3}");
+    // Free rolling: no traction beyond the spin creep and the start-up (10 % of the bound).
+    assert!(free.abs() < 0.1, "free rolling {free}");
+    // The creep force grows with the creepage (bin means over 2 ms, 0.3 % of creepage each).
+    for w in bins.windows(2) {
+        assert!(w[1] > w[0], "not growing: {bins:?}");
+    }
+    // Saturation at xi 1.4-1.5 %, beyond the full-slip creepage of the linear theory,
+    // 3 mu N / (G c^2 C11) = 3 x 0.45 x 110 kN / (81 GPa x 38.6 mm^2 x 4.6) = 1.0 %: the force
+    // is at the bound within 5 % (N bounces within the window).
+    assert!(
+        saturated > 0.95 && saturated <= 1.0 + 1e-9,
+        "end {saturated}"
+    );
+    for k in 0..t.len() {
+        assert!(creep[k] <= bound[k] * (1.0 + 1e-9) + 1e-9, "sample {k}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Every shipped case file loads and passes validation (a typo in a field name or a value out
+/// of range would otherwise surface only when someone runs that case).
+#[test]
+fn shipped_case_files_are_valid() {
+    let mut count = 0;
+    for entry in std::fs::read_dir("data/scenarios").unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        // Case files name a model scenario; model scenarios hold meshes.
+        let text = std::fs::read_to_string(&path).unwrap();
+        if !text.contains("\"model_scenario\"") {
+            continue;
+        }
+        load_case(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        count += 1;
+    }
+    // case1..5-demo, case3-medium, case3-ci, creep-curve-demo.
+    assert!(count >= 8, "{count} case files");
 }

@@ -5,9 +5,9 @@ use squeal::mesh::track::{rail_stations, sleeper_positions, track_mesh, TrackLay
 use squeal::mesh::{material, Mesh};
 use squeal::scenario::LoadedScenario;
 
-fn demo_layout() -> TrackLayout {
-    LoadedScenario::from_file(std::path::Path::new("data/scenarios/demo.json"))
-        .expect("demo")
+fn medium_layout() -> TrackLayout {
+    LoadedScenario::from_file(std::path::Path::new("data/scenarios/medium.json"))
+        .expect("medium")
         .track_layout()
 }
 
@@ -18,7 +18,7 @@ fn rail_volume(mesh: &Mesh) -> f64 {
 
 #[test]
 fn rail_volume_is_section_area_times_length() {
-    let mut layout = demo_layout();
+    let mut layout = medium_layout();
     layout.length_m = 2.0;
     layout.solution_zone_start_m = 0.5;
     layout.solution_zone_length_m = 0.2;
@@ -52,7 +52,7 @@ fn rail_volume_is_section_area_times_length() {
 
 #[test]
 fn rail_is_inclined_one_in_forty_and_sets_are_where_they_belong() {
-    let layout = demo_layout();
+    let layout = medium_layout();
     let mesh = track_mesh(&layout);
     // The running surface nodes lie on the inclined crown: undo the rotation and compare with
     // the section's top surface.
@@ -132,7 +132,7 @@ fn rail_is_inclined_one_in_forty_and_sets_are_where_they_belong() {
 
 #[test]
 fn stations_are_fine_in_the_solution_zone_and_graded_outside() {
-    let layout = demo_layout();
+    let layout = medium_layout();
     let x = rail_stations(&layout);
     let zone = (
         layout.solution_zone_start_m,
@@ -166,8 +166,8 @@ fn stations_are_fine_in_the_solution_zone_and_graded_outside() {
 
 #[test]
 fn model_mesh_places_the_wheel_on_the_rail() {
-    let loaded =
-        LoadedScenario::from_file(std::path::Path::new("data/scenarios/demo.json")).expect("demo");
+    let loaded = LoadedScenario::from_file(std::path::Path::new("data/scenarios/medium.json"))
+        .expect("medium");
     let mesh = loaded.model_mesh();
     assert_eq!(mesh.quality(6000.0).inverted_elements, 0);
     // Closest wheel tread node to the rail is at the initial gap (0 mm): the lowest tread node
@@ -215,7 +215,7 @@ fn model_mesh_places_the_wheel_on_the_rail() {
 /// zone (within 20 %), not by the head's O-grid core.
 #[test]
 fn running_band_keeps_the_time_step_of_the_contact_zone() {
-    let mut layout = demo_layout();
+    let mut layout = medium_layout();
     layout.length_m = 1.2;
     layout.first_sleeper_x_m = 0.3;
     layout.solution_zone_start_m = 0.5;

@@ -1,6 +1,6 @@
 //! `squeal` with no arguments: the main job on the embedded default scenario. It builds and
 //! describes the default meshes (reports/default/model/), then runs the pipeline: wheel modes,
-//! the default rolling case (paper case 3 on the quick meshes, `data/scenarios/case3-quick.json`)
+//! the default rolling case (paper case 3 on the demo meshes, 40 ms, `data/scenarios/case3-demo.json`)
 //! and the report over it (reports/default/index.html).
 
 use std::fmt::Write as _;
@@ -17,7 +17,7 @@ use super::mesh::{mass_kg, write_json, write_mesh};
 pub fn run(out_dir: &Path) -> Result<()> {
     let wall = std::time::Instant::now();
     write_model_page(&out_dir.join("model"))?;
-    let case = squeal::rolling::embedded_quick_case()?;
+    let case = squeal::rolling::embedded_default_case()?;
     println!(
         "default case: {} ({} ms simulated); progress below",
         case.case.name,

@@ -124,6 +124,13 @@ pub struct RigidBodySpec {
     pub prescribed_translation_m: [Option<Curve>; 3],
     /// Applied torque.
     pub torque: Option<TorqueLoad>,
+    /// If set (a unit vector), the body turns only about this fixed axis through its centre
+    /// (an axle in its bearings): the moment components normal to it are taken by reactions
+    /// that do no work, so `I_aa dω/dt = M·a` with `I_aa = aᵀ I a`.
+    pub rotation_axis: Option<P3>,
+    /// Prescribed spin about `rotation_axis` (rad/s against time; needs the axis). The moment
+    /// that holds it is a reaction, booked as external work.
+    pub prescribed_spin_rad_per_s: Option<Curve>,
 }
 
 /// The explicit model.
@@ -449,6 +456,8 @@ impl Model {
             nodes,
             prescribed_translation_m: [None, None, None],
             torque: None,
+            rotation_axis: None,
+            prescribed_spin_rad_per_s: None,
         });
         Ok(self.rigid_bodies.len() - 1)
     }

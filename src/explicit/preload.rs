@@ -45,6 +45,9 @@ pub struct PreloadOptions {
     /// Return an error when the tolerance is not reached (else a report with
     /// `converged: false`, for runs that accept a partly relaxed start).
     pub require_convergence: bool,
+    /// Leave the velocities as they are at the end, so that a relaxation done in stages (with
+    /// changes between them) goes on as one; by default the model is stopped.
+    pub keep_velocities: bool,
 }
 
 impl Default for PreloadOptions {
@@ -57,6 +60,7 @@ impl Default for PreloadOptions {
             min_damping_per_s: 2.0 * 2.0 * std::f64::consts::PI * 20.0,
             fixed_damping_per_s: None,
             require_convergence: true,
+            keep_velocities: false,
         }
     }
 }
@@ -139,10 +143,12 @@ pub fn relax<A: AuxForces + ?Sized>(
         }
     }
     solver.model.mass_damping_per_s = saved_alpha;
-    for v in solver.v.iter_mut() {
-        *v = [0.0; 3];
+    if !opts.keep_velocities {
+        for v in solver.v.iter_mut() {
+            *v = [0.0; 3];
+        }
+        solver.zero_rigid_velocities();
     }
-    solver.zero_rigid_velocities();
     solver.step = step0;
     solver.time_s = t0;
     let (el, _) = solver.element_energy();

@@ -298,6 +298,10 @@ fn colour_blocks(
     Ok(colours)
 }
 
+fn dot(a: P3, b: P3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
 fn cross(a: P3, b: P3) -> P3 {
     [
         a[1] * b[2] - a[2] * b[1],
@@ -683,7 +687,11 @@ impl Solver {
                     &mat_mul(&st.rotation, &st.inertia0),
                     &transpose(&st.rotation),
                 );
-                st.angular_momentum = mat_vec(&inertia, omega_rad_per_s);
+                let omega = match rb.rotation_axis {
+                    Some(a) => a.map(|x| x * dot(a, omega_rad_per_s)),
+                    None => omega_rad_per_s,
+                };
+                st.angular_momentum = mat_vec(&inertia, omega);
             }
         }
     }
@@ -1103,7 +1111,30 @@ impl Solver {
             }
         }
         let l_old = st.angular_momentum;
-        let l_new = [0, 1, 2].map(|i| l_old[i] + dt * moment[i]);
+        let mut l_new = [0, 1, 2].map(|i| l_old[i] + dt * moment[i]);
+        if let Some(a) = spec.rotation_axis {
+            // Turning about the fixed axis a only: keep L = I ω with ω along a. The axis is a
+            // principal direction of the current inertia whenever the body is symmetric about
+            // it; in general only the a-component of the moment drives the spin (eq. of the
+            // doc of `rotation_axis`), so project L on the inertia's response to a.
+            let l_a = dot(l_new, a);
+            let inertia = mat_mul(
+                &mat_mul(&st.rotation, &st.inertia0),
+                &transpose(&st.rotation),
+            );
+            let i_a = mat_vec(&inertia, a);
+            let i_aa = dot(a, i_a);
+            let mut spin = l_a / i_aa;
+            if let Some(c) = &spec.prescribed_spin_rad_per_s {
+                // L lives at half steps: the spin of t + dt/2; the holding moment about a is
+                // I_aa (spin_new - spin_old) / dt - M.a, and its work is booked as a reaction.
+                let spin_old = dot(l_old, a) / i_aa;
+                spin = c.value(t + 0.5 * dt);
+                let reaction = i_aa * (spin - spin_old) / dt - dot(moment, a);
+                w.reaction_j += dt * reaction * 0.5 * (spin_old + spin);
+            }
+            l_new = i_a.map(|x| x * spin);
+        }
         // omega = R I0^-1 R^T L (inertia of the current orientation).
         let omega = mat_vec(
             &st.rotation,

@@ -60,6 +60,24 @@ pub struct TorqueSpec {
     pub ramp_end_s: f64,
 }
 
+/// Prescribed longitudinal creepage (instead of the torque): the axle's forward speed is held at
+/// the rolling speed V and its spin at `V (1 + xi(t)) / R` (R: loaded rolling radius measured
+/// after the preload), with the creepage `xi` rising linearly from `start` at `start_s` to
+/// `end` at `end_s`. A slow ramp traces the creep curve (creep force against creepage) in one
+/// run; a driving wheel has `xi > 0`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CreepageRamp {
+    /// Creepage at `start_s` (dimensionless, e.g. 0.001 = 0.1 %).
+    pub start: f64,
+    /// Creepage at `end_s` and after.
+    pub end: f64,
+    /// Start of the ramp (s); free rolling before it.
+    pub start_s: f64,
+    /// End of the ramp (s).
+    pub end_s: f64,
+}
+
 /// Prescribed lateral motion of both axle ends: at rest until `start_s`, then a ramp at
 /// constant lateral speed, so that the imposed lateral creepage is about
 /// `velocity_m_per_s / rolling speed`.
@@ -76,8 +94,11 @@ pub struct LateralMotion {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PreloadSpec {
-    /// Mass-proportional damping during relaxation (1/s): near `2 x 2 pi x` the frequency of the
-    /// wheel bouncing on the track.
+    /// Mass-proportional damping during relaxation (1/s). The slowest mode to settle is the
+    /// wheelset sinking into its track (about 45 Hz with the preload's added inertia on the
+    /// demo model): critical damping `2 omega` is about 570/s; 450/s (slightly underdamped)
+    /// settled the demo model to a 1e-3 residual in 12 800 steps, where 750/s (overdamped:
+    /// decay `omega^2 / alpha`) had not after 30 000.
     pub damping_per_s: f64,
     /// Relative residual to reach.
     pub tolerance: f64,
@@ -135,6 +156,9 @@ pub struct RollingCase {
     pub sleeper_material: MaterialValues,
     /// Driving torque.
     pub torque: TorqueSpec,
+    /// Prescribed longitudinal creepage instead of the torque (which must then be zero).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub creepage: Option<CreepageRamp>,
     /// Lateral motion of the axle ends (None: case 1, no lateral motion).
     pub lateral_motion: Option<LateralMotion>,
     /// Friction law.
@@ -256,6 +280,34 @@ impl RollingCase {
             ));
         }
         non_negative(source, "torque.max_n_m", self.torque.max_n_m)?;
+        if let Some(c) = &self.creepage {
+            if self.torque.max_n_m != 0.0 {
+                return Err(Error::input(
+                    source,
+                    "creepage",
+                    "a prescribed creepage replaces the driving torque: set torque.max_n_m to 0",
+                ));
+            }
+            for (field, x) in [("creepage.start", c.start), ("creepage.end", c.end)] {
+                if !(x.is_finite() && x.abs() <= 0.1) {
+                    return Err(Error::input(
+                        source,
+                        field,
+                        format!("must lie in [-0.1, 0.1] (got {x}); 0.001 is 0.1 %"),
+                    ));
+                }
+            }
+            if !(c.start_s >= 0.0 && c.end_s > c.start_s && c.end_s <= self.end_time_s) {
+                return Err(Error::input(
+                    source,
+                    "creepage.end_s",
+                    format!(
+                        "needs 0 <= start_s < end_s <= end_time_s (got {} .. {} s, end_time_s {} s)",
+                        c.start_s, c.end_s, self.end_time_s
+                    ),
+                ));
+            }
+        }
         positive(source, "torque.ramp_end_s", self.torque.ramp_end_s)?;
         if let Some(l) = &self.lateral_motion {
             non_negative(source, "lateral_motion.start_s", l.start_s)?;
@@ -327,20 +379,19 @@ impl RollingCase {
     }
 }
 
-/// The default-run case (`data/scenarios/case3-quick.json`) and its model, embedded.
-pub const EMBEDDED_QUICK_CASE: &str = include_str!("../../data/scenarios/case3-quick.json");
-/// The model scenario of the default-run case.
-pub const EMBEDDED_QUICK_SCENARIO: &str = include_str!("../../data/scenarios/quick.json");
+/// The default-run case (`data/scenarios/case3-demo.json`), embedded.
+pub const EMBEDDED_DEFAULT_CASE: &str = include_str!("../../data/scenarios/case3-demo.json");
 
-/// The embedded default-run case: paper case 3 on the quick meshes.
-pub fn embedded_quick_case() -> Result<LoadedCase> {
-    let source = "embedded default case (data/scenarios/case3-quick.json)";
-    let case: RollingCase = crate::input::parse_json(EMBEDDED_QUICK_CASE, source)?;
+/// The embedded default-run case: paper case 3 on the demo meshes (the model is the embedded
+/// default scenario, `data/scenarios/demo.json`).
+pub fn embedded_default_case() -> Result<LoadedCase> {
+    let source = "embedded default case (data/scenarios/case3-demo.json)";
+    let case: RollingCase = crate::input::parse_json(EMBEDDED_DEFAULT_CASE, source)?;
     case.validate(source)?;
     let scenario = LoadedScenario::from_texts(
-        EMBEDDED_QUICK_SCENARIO,
+        crate::scenario::EMBEDDED_DEMO_SCENARIO,
         crate::scenario::EMBEDDED_DEFAULT_WHEEL,
-        "embedded quick scenario (data/scenarios/quick.json)",
+        "embedded default scenario (data/scenarios/demo.json)",
     )?;
     Ok(LoadedCase {
         case,

@@ -4,9 +4,10 @@
 //! The model (PAPER.md "The model"):
 //! - wheel, half axle, tread band, rail, rail band and sleepers are the scenario's hexahedra,
 //!   the bands tied to their bodies;
-//! - the two axle end faces are rigid bodies: both get the prescribed lateral motion (same
-//!   history, so the angle of attack stays zero), the inner one the driving torque about the
-//!   axle (y), the outer one (the axle box) the primary suspension to the sprung mass node;
+//! - the two axle end faces form one rigid body that turns only about the axle (y), as in its
+//!   bearings: it gets the prescribed lateral motion (so the angle of attack stays zero) and
+//!   the driving torque; the outer face's centre (the axle box) carries the primary suspension
+//!   to the sprung mass node;
 //! - rail pads are spring-dampers from each rail-foot node over a sleeper to the nearest
 //!   sleeper-top node (the pad's totals shared equally); ballast is a vertical spring-damper
 //!   from each sleeper-bottom node to the ground, whose lateral and longitudinal motion is
@@ -41,7 +42,7 @@ use crate::explicit::{AuxForces, Curve, ElasticMaterial, Formulation, Model, Sol
 use crate::mesh::{material, P3};
 use crate::{Error, Result};
 
-pub use case::{embedded_quick_case, load_case, LoadedCase, RollingCase};
+pub use case::{embedded_default_case, load_case, LoadedCase, RollingCase};
 
 /// Standard gravity (m/s^2).
 const G_M_PER_S2: f64 = 9.81;
@@ -85,6 +86,12 @@ pub struct RollingModel {
     pub wheelset_nodes: Vec<usize>,
     /// The sprung mass node.
     pub sprung_node: usize,
+    /// The axle-box node the primary suspension joins to the sprung mass.
+    pub axle_box_node: usize,
+    /// The rigid body of both axle end faces (index into the model's rigid bodies).
+    pub axle_body: usize,
+    /// Static compression of the primary suspension under the sprung weight (m).
+    pub suspension_static_compression_m: f64,
     /// Facts for `run.json`.
     pub info: ModelInfo,
     /// Inertia added per node for the preload step (empty: none).
@@ -236,14 +243,20 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
             })?;
         }
     }
-    // Axle ends: rigid bodies with the lateral motion; torque on the inner end.
+    // Axle ends: both end faces of the half axle move as one rigid body (issue 4: "the half
+    // axle ends driven as one body") that turns only about the axle axis, as in its bearings,
+    // and carries the prescribed lateral motion and the driving torque. With the two ends
+    // free to move apart in x and to turn about z, the half wheelset would yaw under the
+    // single wheel's traction, and the yaw angle is a lateral creepage (PAPER.md: the same
+    // lateral motion at both ends so that "the angle of attack stays about zero").
     let lateral = lateral_curve(case);
-    let inner = model.add_rigid_body("axle_inner_end")?;
-    let outer = model.add_rigid_body("axle_outer_end")?;
-    for b in [inner, outer] {
-        model.rigid_bodies[b].prescribed_translation_m[1] = Some(lateral.clone());
-    }
-    let rb: &mut RigidBodySpec = &mut model.rigid_bodies[inner];
+    let mut both_ends: Vec<usize> = model.node_set("axle_inner_end")?;
+    both_ends.extend(model.node_set("axle_outer_end")?);
+    model.mesh.add_node_set("axle_ends", both_ends);
+    let axle = model.add_rigid_body("axle_ends")?;
+    let rb: &mut RigidBodySpec = &mut model.rigid_bodies[axle];
+    rb.prescribed_translation_m[1] = Some(lateral);
+    rb.rotation_axis = Some([0.0, 1.0, 0.0]);
     rb.torque = Some(TorqueLoad {
         axis: [0.0, 1.0, 0.0],
         curve_n_m: Curve::new(
@@ -296,7 +309,8 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
     };
     let mut solver = Solver::new(model, None)?;
     // The sprung mass sits at its static position: the suspension carries its weight.
-    solver.u[sprung_node][2] = -case.sprung_mass_kg * G_M_PER_S2 / ps.stiffness_n_per_m;
+    let suspension_static_compression_m = case.sprung_mass_kg * G_M_PER_S2 / ps.stiffness_n_per_m;
+    solver.u[sprung_node][2] = -suspension_static_compression_m;
     let (dt, limited) = solver.stable_time_step_s()?;
     let info = ModelInfo {
         nodes: solver.model.node_count(),
@@ -330,9 +344,104 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         contact,
         wheelset_nodes,
         sprung_node,
+        axle_box_node: axle_box,
+        axle_body: axle,
+        suspension_static_compression_m,
         info,
         preload_added_mass_kg,
     })
+}
+
+/// Static preload (frictionless dynamic relaxation with the case's damping) in stages. The
+/// sprung mass starts at its static position over the unloaded axle box; as the wheel sinks
+/// into the track the axle box follows, and the suspension would carry `k d` less than the
+/// sprung weight (about 2 kN for 1.7 mm) until the 1-2 Hz bounce settles, which dynamic
+/// relaxation cannot wait for. So after each stage but the last the sprung mass is put back at
+/// its static offset from the current axle box (`u_s = u_box - W / k`, at rest), and the next
+/// stage relaxes that small disturbance: the wheel then carries the full static load.
+fn staged_preload(m: &mut RollingModel, preload: &case::PreloadSpec) -> Result<PreloadReport> {
+    // Ten stages: the axle box moves little within one, so each put-back disturbs the wheel
+    // by a few hundred newtons at most.
+    const STAGES: u64 = 10;
+    let per_stage = (preload.max_steps / STAGES).max(1);
+    let mut total_steps = 0;
+    let mut last = None;
+    for stage in 0..STAGES {
+        let report = relax(
+            &mut m.solver,
+            &mut m.contact,
+            PreloadOptions {
+                tolerance: preload.tolerance,
+                max_steps: if stage + 1 == STAGES {
+                    preload.max_steps - total_steps
+                } else {
+                    per_stage
+                },
+                fixed_damping_per_s: Some(preload.damping_per_s),
+                require_convergence: false,
+                keep_velocities: stage + 1 < STAGES,
+                ..Default::default()
+            },
+        )?;
+        total_steps += report.steps;
+        let converged = report.converged;
+        last = Some(report);
+        if stage + 1 == STAGES || total_steps >= preload.max_steps {
+            break;
+        }
+        let target = m.solver.u[m.axle_box_node][2] - m.suspension_static_compression_m;
+        let moved = (m.solver.u[m.sprung_node][2] - target).abs();
+        // Converged with the sprung mass already in place (within 1 µm): done.
+        if converged && moved < 1e-6 {
+            break;
+        }
+        m.solver.u[m.sprung_node][2] = target;
+        m.solver.v[m.sprung_node] = [0.0; 3];
+    }
+    // The run starts from rest (an early converged stage kept its velocities).
+    m.solver.v.iter_mut().for_each(|v| *v = [0.0; 3]);
+    m.solver.zero_rigid_velocities();
+    let mut report = last.expect("at least one stage");
+    report.steps = total_steps;
+    Ok(report)
+}
+
+/// Holds the axle at the rolling speed and spins it at `V (1 + xi(t)) / R` (see
+/// [`case::CreepageRamp`]): forward speed and spin are prescribed on the axle body from now on.
+fn prescribe_creepage(
+    m: &mut RollingModel,
+    ramp: &case::CreepageRamp,
+    speed_m_per_s: f64,
+    radius_m: f64,
+) -> Result<()> {
+    let t0 = m.solver.time_s;
+    let end = m.solver.time_s.max(ramp.end_s) + 1.0;
+    let spin = |xi: f64| speed_m_per_s * (1.0 + xi) / radius_m;
+    let mut times = vec![t0];
+    let mut values = vec![spin(0.0)];
+    if ramp.start_s > t0 {
+        times.push(ramp.start_s);
+        values.push(spin(0.0));
+    }
+    times.push(ramp.start_s.max(t0) + 1e-9);
+    values.push(spin(ramp.start));
+    times.push(ramp.end_s);
+    values.push(spin(ramp.end));
+    times.push(end);
+    values.push(spin(ramp.end));
+    let spin_curve = Curve::new(times, values, "creepage")?;
+    let axle = m.axle_body;
+    let centre_x = m.solver.rigid[axle].centre_m[0] - m.solver.rigid[axle].centre0_m[0];
+    let forward = Curve::new(
+        vec![t0, end],
+        vec![centre_x, centre_x + speed_m_per_s * (end - t0)],
+        "creepage",
+    )?;
+    let body = &mut m.solver.model.rigid_bodies[axle];
+    body.prescribed_spin_rad_per_s = Some(spin_curve);
+    body.prescribed_translation_m[0] = Some(forward);
+    body.torque = None;
+    Ok(())
 }
 
 /// Transit time `L / c` of every element (s): the elements' own stable steps.
@@ -469,7 +578,7 @@ pub struct RollingContact {
     pub pair: ContactPair,
     rim_node: usize,
     rim_nodes: Vec<usize>,
-    hub_nodes: Vec<usize>,
+    pub hub_nodes: Vec<usize>,
     patch_times_s: Vec<f64>,
     slip_threshold_m_per_s: f64,
     writer: Option<BufWriter<File>>,
@@ -482,8 +591,10 @@ pub struct RollingContact {
     longest_loss_s: f64,
 }
 
-/// Header of `contact_forces.csv`: forces on the wheel (N) in track axes.
-pub const CONTACT_FORCE_COLUMNS: &str = "time_s,normal_force_n,longitudinal_force_n,lateral_force_n,vertical_force_n,creep_force_n,traction_bound_n,traction_coefficient,contact_nodes,max_penetration_m";
+/// Header of `contact_forces.csv`: forces on the wheel (N) in track axes: the totals
+/// (normal plus friction parts) per axis, the friction parts alone (`*_creep_force_n`), their
+/// magnitude (`creep_force_n`) and the traction bound `sum mu |f_N|`.
+pub const CONTACT_FORCE_COLUMNS: &str = "time_s,normal_force_n,longitudinal_force_n,lateral_force_n,vertical_force_n,creep_force_n,traction_bound_n,traction_coefficient,contact_nodes,max_penetration_m,longitudinal_creep_force_n,lateral_creep_force_n";
 
 impl RollingContact {
     fn write_forces(&mut self, time_s: f64) -> Result<()> {
@@ -545,6 +656,12 @@ impl RollingContact {
         }
         row.push_str(&format!(",{count},"));
         push_num(&mut row, deepest);
+        // The tangential (friction) parts alone: the totals above also hold the normal force's
+        // components along the inclined contact normal.
+        for x in [tangential[0], tangential[1]] {
+            row.push(',');
+            push_num(&mut row, x);
+        }
         row.push('\n');
         if let Some(w) = self.writer.as_mut() {
             w.write_all(row.as_bytes())
@@ -749,6 +866,15 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         source: loaded.source.clone(),
     };
     std::fs::create_dir_all(&opts.out_dir).map_err(|e| Error::io(&opts.out_dir, e))?;
+    if opts.resume && case.creepage.is_some() {
+        // The spin history depends on the loaded rolling radius measured after the preload,
+        // which a checkpoint does not hold.
+        return Err(Error::input(
+            loaded.source.display().to_string(),
+            "creepage",
+            "runs with a prescribed creepage cannot be resumed; start them again",
+        ));
+    }
     let mut m = build(&loaded_case)?;
     m.contact.out_dir = opts.out_dir.clone();
     let mut preload = None;
@@ -761,17 +887,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         // saturated at the bound before the wheel has even started rolling.
         let friction = m.contact.pair.friction;
         m.contact.pair.friction = crate::contact::FrictionLaw::Coulomb { mu: 0.0 };
-        let report = relax(
-            &mut m.solver,
-            &mut m.contact,
-            PreloadOptions {
-                tolerance: case.preload.tolerance,
-                max_steps: case.preload.max_steps,
-                fixed_damping_per_s: Some(case.preload.damping_per_s),
-                require_convergence: false,
-                ..Default::default()
-            },
-        );
+        let report = staged_preload(&mut m, &case.preload);
         m.solver.clear_inertia_scaling();
         m.contact.pair.friction = friction;
         for st in m.contact.pair.state.iter_mut() {
@@ -814,6 +930,9 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         m.solver
             .set_initial_velocity(Some(&nodes), [speed, 0.0, 0.0], omega, centre);
         m.solver.v[m.sprung_node] = [speed, 0.0, 0.0];
+        if let Some(ramp) = case.creepage {
+            prescribe_creepage(&mut m, &ramp, speed, radius)?;
+        }
         m.solver.rebase_energy();
     }
     let sample_interval_s = 1.0 / case.output.sample_rate_hz;
