@@ -17,10 +17,23 @@ pub type ModesStage = dyn Fn(&Path) -> Result<()>;
 
 /// The modes stage by the axisymmetric solver (harmonics 0..12, below 10 kHz) on `wheel`:
 /// writes `modes.json` (ModeRef-compatible entries) into the run directory.
+///
+/// The wheel is clamped at both axle end faces: in the rolling model those faces are one rigid
+/// body that cannot move laterally (its lateral motion is prescribed) nor turn except about
+/// the axle, which is what fixes the modes with 0 and 1 nodal diameters (the free wheelset's
+/// rigid and low axial modes become the (0,0) axial mode at 229 Hz, which the demo cases'
+/// lateral vibration shows at 227-234 Hz). Modes with 2 or more nodal diameters do not move
+/// the axle and are the same either way.
 pub fn axisym_modes_stage(wheel: crate::geometry::wheel::WheelSpec) -> Box<ModesStage> {
     Box::new(move |dir: &Path| -> Result<()> {
-        use crate::axisym::{solve, AxisymModel, AxisymOptions, WheelModelOptions};
-        let model = AxisymModel::from_wheel(&wheel, WheelModelOptions::default())?;
+        use crate::axisym::{solve, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions};
+        let model = AxisymModel::from_wheel(
+            &wheel,
+            WheelModelOptions {
+                without_axle: false,
+                clamp: WheelClamp::AxleEnds,
+            },
+        )?;
         let result = solve(&model, &AxisymOptions::default())?;
         let path = dir.join("modes.json");
         let text = serde_json::to_string_pretty(&result.modes)

@@ -15,21 +15,31 @@ fn column<'a>(t: &'a Table, name: &str) -> &'a [f64] {
     &t.columns[k]
 }
 
-#[test]
-fn tiny_case_runs_and_keeps_the_contact_invariants() {
-    let loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
-    let dir = std::env::temp_dir().join(format!("squeal_rolling_{}", std::process::id()));
+/// Runs `loaded` into a fresh temporary directory named after `tag` (and the process id).
+fn run_in_temp(
+    loaded: &squeal::rolling::LoadedCase,
+    tag: &str,
+    end_time_s: Option<f64>,
+) -> (squeal::rolling::RunRecord, std::path::PathBuf) {
+    let dir = std::env::temp_dir().join(format!("{tag}_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let record = simulate(
-        &loaded,
+        loaded,
         &SimulateOptions {
             out_dir: dir.clone(),
             resume: false,
             progress: false,
-            end_time_s: None,
+            end_time_s,
         },
     )
     .unwrap();
+    (record, dir)
+}
+
+#[test]
+fn tiny_case_runs_and_keeps_the_contact_invariants() {
+    let loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    let (record, dir) = run_in_temp(&loaded, "squeal_rolling", None);
     assert_eq!(record.run.status, "completed");
     assert!(
         record.longest_contact_loss_s < squeal::rolling::LIFT_OFF_LIMIT_S,
@@ -207,18 +217,7 @@ fn preloaded_wheel_carries_the_static_load() {
     let mut loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
     loaded.case.preload.max_steps = 20_000;
     loaded.case.preload.damping_per_s = 450.0;
-    let dir = std::env::temp_dir().join(format!("squeal_rolling_static_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let record = simulate(
-        &loaded,
-        &SimulateOptions {
-            out_dir: dir.clone(),
-            resume: false,
-            progress: false,
-            end_time_s: Some(2e-5),
-        },
-    )
-    .unwrap();
+    let (record, dir) = run_in_temp(&loaded, "squeal_rolling_static", Some(2e-5));
     let preload = record.preload.expect("preload report");
     assert!(preload.converged, "{preload:?}");
     let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
@@ -241,18 +240,7 @@ fn without_lateral_motion_the_creep_force_stays_longitudinal() {
     let mut loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
     loaded.case.lateral_motion = None; // case 1
     loaded.case.torque.ramp_end_s = 0.001;
-    let dir = std::env::temp_dir().join(format!("squeal_rolling_nolat_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    simulate(
-        &loaded,
-        &SimulateOptions {
-            out_dir: dir.clone(),
-            resume: false,
-            progress: false,
-            end_time_s: None,
-        },
-    )
-    .unwrap();
+    let (_, dir) = run_in_temp(&loaded, "squeal_rolling_nolat", None);
     let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
     let t = column(&forces, "time_s");
     let lateral = column(&forces, "lateral_creep_force_n");
@@ -296,18 +284,7 @@ fn prescribed_creepage_traces_a_saturating_creep_curve() {
     loaded.case.output.patch_times_s.clear();
     loaded.case.output.vtu_times_s.clear();
     loaded.case.validate("test").unwrap();
-    let dir = std::env::temp_dir().join(format!("squeal_rolling_creep_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let record = simulate(
-        &loaded,
-        &SimulateOptions {
-            out_dir: dir.clone(),
-            resume: false,
-            progress: false,
-            end_time_s: None,
-        },
-    )
-    .unwrap();
+    let (record, dir) = run_in_temp(&loaded, "squeal_rolling_creep", None);
     assert_eq!(record.run.status, "completed");
     let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
     let t = column(&forces, "time_s");
@@ -368,4 +345,134 @@ fn shipped_case_files_are_valid() {
     }
     // case1..5-demo, case3-medium, case3-ci, creep-curve-demo.
     assert!(count >= 8, "{count} case files");
+}
+
+/// Mean of a column over `from <= t < to` (s).
+fn window_mean(t: &Table, name: &str, from: f64, to: f64) -> f64 {
+    let time = column(t, "time_s");
+    let c = column(t, name);
+    let (mut sum, mut n) = (0.0, 0);
+    for k in 0..time.len() {
+        if time[k] >= from && time[k] < to {
+            sum += c[k];
+            n += 1;
+        }
+    }
+    sum / n.max(1) as f64
+}
+
+/// Issue 5, case 1 against case 3 and case 4 at the demo resolution (about 5 minutes per case
+/// on the idle 2-core machine: `cargo test --release --test rolling -- --ignored`). After the
+/// lateral motion starts (16 ms) the lateral contact force is larger in case 3 than in case 1,
+/// and in case 4 (1.1 % imposed lateral creepage) the creep force reaches the traction bound.
+#[test]
+#[ignore]
+fn demo_cases_lateral_force_grows_with_the_lateral_motion_and_case4_saturates() {
+    let mut tables = Vec::new();
+    for case in ["case1-demo", "case3-demo", "case4-demo"] {
+        let loaded = load_case(Path::new(&format!("data/scenarios/{case}.json"))).unwrap();
+        let (record, dir) = run_in_temp(&loaded, &format!("squeal_{case}"), None);
+        assert_eq!(record.run.status, "completed", "{case}");
+        tables.push(Table::read(&dir.join("contact_forces.csv")).unwrap());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    let lateral = |k: usize| window_mean(&tables[k], "lateral_force_n", 0.02, 0.04).abs();
+    let (case1, case3) = (lateral(0), lateral(1));
+    eprintln!("mean |lateral force| 20-40 ms: case 1 {case1:.0} N, case 3 {case3:.0} N");
+    // Measured 2026-11-23: 1.6 kN and 11.8 kN. 5 kN: well above the bounce of the means.
+    assert!(case3 > case1 + 5e3, "case 1 {case1} N, case 3 {case3} N");
+    // Saturation in case 4: some 1 ms window after the motion starts has the creep force at
+    // the bound within 2 % (the bound moves with N, which bounces by a few %).
+    let mut best: f64 = 0.0;
+    for k in 0..20 {
+        let from = 0.02 + 1e-3 * k as f64;
+        let ratio = window_mean(&tables[2], "creep_force_n", from, from + 1e-3)
+            / window_mean(&tables[2], "traction_bound_n", from, from + 1e-3);
+        best = best.max(ratio);
+    }
+    eprintln!("case 4: largest 1 ms mean of creep force / bound after 20 ms {best:.3}");
+    assert!(best > 0.98, "case 4 creep/bound {best}");
+}
+
+/// Issue 5, static normal contact at 1 mm (`data/scenarios/static-hertz.json`, 251 k elements;
+/// about 10 minutes on the idle 2-core machine: `cargo test --release --test rolling --
+/// --ignored static`): the patch of the preloaded wheel against Hertz for the local
+/// curvatures of S1002 on 54E1 at 1:40 at the measured normal force. Semi-axes from the
+/// pressure-weighted second moments, which for a Hertz pressure `p0 sqrt(1 - x²/a² - y²/b²)`
+/// are `a² / 5` and `b² / 5`; peak pressure against `3 N / (2 pi a b)`. 10 %: the issue's
+/// tolerance (nodal pressures on a 1 mm grid over a patch of about 14 x 10 mm).
+#[test]
+#[ignore]
+fn static_patch_at_1mm_matches_hertz() {
+    use squeal::kalker::hertz::HertzContact;
+    use squeal::kalker::snapshot::PatchSnapshot;
+    let loaded = load_case(Path::new("data/scenarios/static-hertz.json")).unwrap();
+    let (record, dir) = run_in_temp(&loaded, "squeal_static_hertz", None);
+    let preload = record.preload.expect("preload");
+    let snap: PatchSnapshot = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("patches/patch_0000000.0us.json")).unwrap(),
+    )
+    .unwrap();
+    let total: f64 = snap.points.iter().map(|p| p.pressure_pa).sum();
+    let centre = |f: &dyn Fn(&squeal::kalker::snapshot::PatchPoint) -> f64| {
+        snap.points
+            .iter()
+            .map(|p| p.pressure_pa * f(p))
+            .sum::<f64>()
+            / total
+    };
+    let (xc, yc) = (centre(&|p| p.x_m), centre(&|p| p.y_m));
+    let a = (5.0 * centre(&|p| (p.x_m - xc).powi(2))).sqrt();
+    let b = (5.0 * centre(&|p| (p.y_m - yc).powi(2))).sqrt();
+    let peak = snap
+        .points
+        .iter()
+        .map(|p| p.pressure_pa)
+        .fold(0.0, f64::max);
+    let wheel_y_m = loaded.scenario.scenario.wheel_position.tape_circle_y_mm * 1e-3;
+    let radius_m = loaded.scenario.wheel.nominal_radius_mm * 1e-3;
+    let contact = squeal::kalker::profiles::s1002_on_54e1(wheel_y_m, radius_m).unwrap();
+    let hertz = HertzContact::from_curvatures(
+        contact.curvature_x_per_m,
+        contact.curvature_y_per_m,
+        snap.normal_force_n,
+        squeal::kalker::Material::STEEL,
+    )
+    .unwrap();
+    eprintln!(
+        "preload residual {:.2e} ({} steps); N {:.1} kN (static load {:.1} kN); patch a {:.2} mm \
+         b {:.2} mm p_max {:.0} MPa ({} nodes, centre y {:.1} mm); Hertz a {:.2} mm b {:.2} mm \
+         p0 {:.0} MPa at contact y {:.1} mm",
+        preload.relative_residual,
+        preload.steps,
+        snap.normal_force_n / 1e3,
+        record.model.static_wheel_load_n / 1e3,
+        a * 1e3,
+        b * 1e3,
+        peak / 1e6,
+        snap.points.len(),
+        yc * 1e3,
+        hertz.semi_axis_a_m * 1e3,
+        hertz.semi_axis_b_m * 1e3,
+        hertz.peak_pressure_pa / 1e6,
+        contact.contact_y_m * 1e3
+    );
+    let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
+    let vertical = column(&forces, "vertical_force_n")[0];
+    let load = record.model.static_wheel_load_n;
+    assert!(
+        (vertical - load).abs() < 0.01 * load,
+        "{vertical} vs {load}"
+    );
+    for (what, fe, reference) in [
+        ("a", a, hertz.semi_axis_a_m),
+        ("b", b, hertz.semi_axis_b_m),
+        ("p0", peak, hertz.peak_pressure_pa),
+    ] {
+        assert!(
+            (fe - reference).abs() < 0.1 * reference,
+            "{what}: FE {fe} vs Hertz {reference}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
