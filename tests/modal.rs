@@ -278,6 +278,20 @@ fn solver_matches_dense_reference() {
         );
         assert!(m.residual < 1e-8);
     }
+    assert_eq!(sol.sturm_count, Some(30));
+    // The Sturm count alone, between consecutive dense eigenvalues: exactly the number below.
+    // Only where the two are distinct (1e-3 apart; the square bar has repeated pairs).
+    let gaps: Vec<usize> = (1..f_ref.len())
+        .filter(|&k| f_ref[k] - f_ref[k - 1] > 1e-3 * f_ref[k])
+        .collect();
+    assert!(gaps.len() > 20);
+    for below in gaps.iter().step_by(gaps.len() / 6).copied() {
+        let lambda = (2.0 * PI * 0.5 * (f_ref[below - 1] + f_ref[below])).powi(2);
+        assert_eq!(
+            squeal::modal::lanczos::sturm_count(&a.k, &a.m, lambda).unwrap(),
+            below
+        );
+    }
 }
 
 trait LowerInv {

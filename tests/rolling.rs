@@ -364,10 +364,11 @@ fn window_mean(t: &Table, name: &str, from: f64, to: f64) -> f64 {
 /// Issue 5, case 1 against case 3 and case 4 at the demo resolution (about 5 minutes per case
 /// on the idle 2-core machine: `cargo test --release --test rolling -- --ignored`). After the
 /// lateral motion starts (16 ms) the lateral contact force is larger in case 3 than in case 1,
-/// and in case 4 (1.1 % imposed lateral creepage) the creep force reaches the traction bound.
+/// and in case 4 (1.1 % imposed lateral creepage) the creep force reaches the traction bound,
+/// which it does not in cases 1 and 3.
 #[test]
 #[ignore]
-fn demo_cases_lateral_force_grows_with_the_lateral_motion_and_case4_saturates() {
+fn demo_cases_lateral_force_grows_with_the_motion_and_case4_saturates() {
     let mut tables = Vec::new();
     for case in ["case1-demo", "case3-demo", "case4-demo"] {
         let loaded = load_case(Path::new(&format!("data/scenarios/{case}.json"))).unwrap();
@@ -381,17 +382,28 @@ fn demo_cases_lateral_force_grows_with_the_lateral_motion_and_case4_saturates() 
     eprintln!("mean |lateral force| 20-40 ms: case 1 {case1:.0} N, case 3 {case3:.0} N");
     // Measured 2026-11-23: 1.6 kN and 11.8 kN. 5 kN: well above the bounce of the means.
     assert!(case3 > case1 + 5e3, "case 1 {case1} N, case 3 {case3} N");
-    // Saturation in case 4: some 1 ms window after the motion starts has the creep force at
-    // the bound within 2 % (the bound moves with N, which bounces by a few %).
-    let mut best: f64 = 0.0;
-    for k in 0..20 {
-        let from = 0.02 + 1e-3 * k as f64;
-        let ratio = window_mean(&tables[2], "creep_force_n", from, from + 1e-3)
-            / window_mean(&tables[2], "traction_bound_n", from, from + 1e-3);
-        best = best.max(ratio);
-    }
-    eprintln!("case 4: largest 1 ms mean of creep force / bound after 20 ms {best:.3}");
-    assert!(best > 0.98, "case 4 creep/bound {best}");
+    // Saturation in case 4 and not in cases 1 and 3: the share of samples after 25 ms with
+    // the creep force at the bound (within 2 %: the return mapping puts every slipping node
+    // exactly at it, and the sum is at the bound when all slip). Measured 2026-11-23: case 4
+    // 9.3 % of samples (largest ratio 0.9987; the normal force then swings between 45 and
+    // 270 kN as the contact moves across the rail crown), cases 1 and 3 none (largest 0.61
+    // and 0.59).
+    let at_bound = |k: usize| {
+        let t = column(&tables[k], "time_s");
+        let creep = column(&tables[k], "creep_force_n");
+        let bound = column(&tables[k], "traction_bound_n");
+        let late: Vec<usize> = (0..t.len())
+            .filter(|&i| t[i] >= 0.025 && bound[i] > 0.0)
+            .collect();
+        late.iter().filter(|&&i| creep[i] > 0.98 * bound[i]).count() as f64 / late.len() as f64
+    };
+    let shares = [at_bound(0), at_bound(1), at_bound(2)];
+    eprintln!("share of samples at the traction bound after 25 ms (cases 1, 3, 4): {shares:.3?}");
+    assert!(shares[2] > 0.05, "case 4 {shares:?}");
+    assert!(
+        shares[0] == 0.0 && shares[1] == 0.0,
+        "cases 1 and 3 {shares:?}"
+    );
 }
 
 /// Issue 5, static normal contact at 1 mm (`data/scenarios/static-hertz.json`, 251 k elements;

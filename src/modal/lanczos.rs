@@ -26,6 +26,10 @@ pub struct ModalOptions {
     pub residual_tolerance: f64,
     /// Largest Krylov basis (vectors) before giving up.
     pub max_basis: usize,
+    /// Check completeness with a Sturm count: the negative pivots of the LDLᵀ of
+    /// `K - w_max² M` (Sylvester's law of inertia, M positive definite) are the eigenvalues
+    /// below `fmax`, which must equal the modes found. A second (simplicial) factorisation.
+    pub sturm_check: bool,
 }
 
 impl Default for ModalOptions {
@@ -38,6 +42,7 @@ impl Default for ModalOptions {
             // 1e-10..1e-13 on the meshes of the tests.
             residual_tolerance: 1e-8,
             max_basis: 4000,
+            sturm_check: true,
         }
     }
 }
@@ -73,6 +78,8 @@ pub struct ModalSolution {
     pub factor_seconds: f64,
     /// Total solve time incl. factorisation (s).
     pub solve_seconds: f64,
+    /// Eigenvalues below `fmax` by the Sturm count (None: not checked).
+    pub sturm_count: Option<usize>,
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -129,6 +136,33 @@ fn shifted(
     }
     SparseColMat::try_new_from_triplets(n, n, &t)
         .map_err(|e| Error::Numerical(format!("shifted matrix: {e:?}")))
+}
+
+/// Number of eigenvalues of `K x = lambda M x` below `lambda_max` (K, M: lower triangles):
+/// the negative pivots of the LDLᵀ of `K - lambda_max M` (Sylvester's law of inertia), by the
+/// AMD-ordered simplicial factorisation of the axisymmetric solver.
+pub fn sturm_count(
+    k: &SparseColMat<usize, f64>,
+    m: &SparseColMat<usize, f64>,
+    lambda_max: f64,
+) -> Result<usize> {
+    let n = k.nrows();
+    // (row <= column) entries of the upper triangle, K and M values side by side.
+    let mut t: Vec<(usize, usize, f64, f64)> = Vec::with_capacity(k.val().len() + m.val().len());
+    for (a, is_k) in [(k, true), (m, false)] {
+        let cp = a.symbolic().col_ptr();
+        let ri = a.symbolic().row_idx();
+        let v = a.val();
+        for j in 0..n {
+            for p in cp[j]..cp[j + 1] {
+                let (kv, mv) = if is_k { (v[p], 0.0) } else { (0.0, v[p]) };
+                // Stored lower (row >= column): the transposed pair is in the upper triangle.
+                t.push((j, ri[p], kv, mv));
+            }
+        }
+    }
+    let pencil = crate::axisym::eigen::PencilMatrices::from_triplets(n, &t)?;
+    Ok(pencil.factor(lambda_max)?.negative_pivots)
 }
 
 /// All modes with `f <= fmax_hz` of `K x = w² M x` (K, M: lower triangles, symmetric, M positive
@@ -359,6 +393,20 @@ pub fn solve(
             bad.frequency_hz, bad.residual, opts.residual_tolerance
         )));
     }
+    let sturm_count = if opts.sturm_check {
+        let count = sturm_count(k, m, lambda_max)?;
+        if count != modes.len() {
+            return Err(Error::Numerical(format!(
+                "the Sturm count finds {count} eigenvalues below {} Hz but Lanczos returned {} \
+                 modes (basis {dim}, {runs} runs): raise the basis limit or split the band",
+                opts.fmax_hz,
+                modes.len()
+            )));
+        }
+        Some(count)
+    } else {
+        None
+    };
     Ok(ModalSolution {
         modes,
         shift: sigma,
@@ -366,5 +414,6 @@ pub fn solve(
         runs,
         factor_seconds,
         solve_seconds: started.elapsed().as_secs_f64(),
+        sturm_count,
     })
 }
