@@ -406,3 +406,96 @@ pub fn write_matrix_market(a: &SparseColMat<usize, f64>, path: &std::path::Path)
     }
     w.flush().map_err(io)
 }
+
+/// Read a Matrix Market `coordinate real symmetric` file (as [`write_matrix_market`] writes) into
+/// a lower-triangle sparse matrix. Entries above the diagonal are mirrored into the lower
+/// triangle; duplicates are summed. Errors name the file and line.
+pub fn read_matrix_market(path: &std::path::Path) -> Result<SparseColMat<usize, f64>> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let bad = |line: usize, msg: String| Error::input(&name, format!("line {line}"), msg);
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
+    let (_, header) = lines
+        .next()
+        .ok_or_else(|| bad(1, "empty file (expected a Matrix Market header)".into()))?;
+    let h: Vec<String> = header
+        .split_whitespace()
+        .map(|t| t.to_ascii_lowercase())
+        .collect();
+    if h.len() != 5 || h[0] != "%%matrixmarket" || h[1] != "matrix" || h[2] != "coordinate" {
+        return Err(bad(
+            1,
+            format!("expected `%%MatrixMarket matrix coordinate real symmetric`, got `{header}`"),
+        ));
+    }
+    if h[3] != "real" || h[4] != "symmetric" {
+        return Err(bad(
+            1,
+            format!(
+                "only `real symmetric` matrices are supported, got `{} {}`",
+                h[3], h[4]
+            ),
+        ));
+    }
+    let mut data = lines.filter(|(_, l)| !l.is_empty() && !l.starts_with('%'));
+    let (ls, size) = data
+        .next()
+        .ok_or_else(|| bad(2, "missing the size line `rows cols entries`".into()))?;
+    let dims: Vec<usize> = size
+        .split_whitespace()
+        .map(|t| t.parse::<usize>())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| bad(ls, format!("expected `rows cols entries`, got `{size}`")))?;
+    if dims.len() != 3 || dims[0] != dims[1] || dims[0] == 0 {
+        return Err(bad(
+            ls,
+            format!("expected a non-empty square matrix `n n entries`, got `{size}`"),
+        ));
+    }
+    let (n, nnz) = (dims[0], dims[2]);
+    let mut trips = Vec::with_capacity(nnz.min(text.len() / 6 + 1));
+    for (l, line) in data {
+        let mut it = line.split_whitespace();
+        let parsed = (|| {
+            let i: usize = it.next()?.parse().ok()?;
+            let j: usize = it.next()?.parse().ok()?;
+            let v: f64 = it.next()?.parse().ok()?;
+            it.next().is_none().then_some((i, j, v))
+        })();
+        let (i, j, v) =
+            parsed.ok_or_else(|| bad(l, format!("expected `row col value`, got `{line}`")))?;
+        if i == 0 || j == 0 || i > n || j > n {
+            return Err(bad(
+                l,
+                format!("index ({i}, {j}) outside the 1-based range 1..={n}"),
+            ));
+        }
+        if !v.is_finite() {
+            return Err(bad(l, format!("non-finite value {v}")));
+        }
+        if trips.len() == nnz {
+            return Err(bad(
+                l,
+                format!("more entries than the {nnz} the size line declares"),
+            ));
+        }
+        let (r, c) = if i >= j {
+            (i - 1, j - 1)
+        } else {
+            (j - 1, i - 1)
+        };
+        trips.push(Triplet::new(r, c, v));
+    }
+    if trips.len() != nnz {
+        return Err(Error::input(
+            &name,
+            "entries",
+            format!(
+                "{} entries, but the size line declares {nnz} (truncated file?)",
+                trips.len()
+            ),
+        ));
+    }
+    SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &trips)
+        .map_err(|e| Error::Numerical(format!("{name}: sparse matrix creation failed: {e:?}")))
+}
