@@ -276,6 +276,12 @@ fn decode_array(path: &str, attrs: &str, body: &str) -> Result<Vec<f64>> {
             })
             .collect();
     }
+    if format == "appended" {
+        return Err(bad(
+            path,
+            "appended data (format=\"appended\") is not supported: save the file with ASCII data arrays (ParaView: Data Mode = Ascii)",
+        ));
+    }
     if format != "binary" {
         return Err(bad(
             path,
