@@ -15,6 +15,83 @@ pub struct BenchArgs {
 pub enum BenchWhat {
     /// Explicit element-update throughput on a block; ends with `ns_per_element_step=<value>`.
     Explicit(ExplicitBenchArgs),
+    /// Modal band solve of exported matrices (`squeal modes --export-mtx DIR`): reads DIR/K.mtx
+    /// and DIR/M.mtx, ends with `seconds=<total> modes=<count below fmax, rigid included>`.
+    Modal(ModalBenchArgs),
+}
+
+/// Arguments of `squeal bench modal`.
+#[derive(Args, Debug)]
+pub struct ModalBenchArgs {
+    /// Directory holding K.mtx and M.mtx (Matrix Market coordinate real symmetric).
+    #[arg(long)]
+    pub mtx: std::path::PathBuf,
+    /// Upper band edge (Hz).
+    #[arg(long, default_value_t = 10_000.0)]
+    pub fmax: f64,
+}
+
+fn modal(a: ModalBenchArgs) -> Result<()> {
+    use squeal::fem::assembly::read_matrix_market;
+    use squeal::modal::{solve, ModalOptions};
+    if !(a.fmax.is_finite() && a.fmax > 0.0 && a.fmax <= 1e6) {
+        return Err(squeal::Error::input(
+            "command line",
+            "--fmax",
+            format!("{} is outside the allowed range (0, 1e6] Hz", a.fmax),
+        ));
+    }
+    let started = std::time::Instant::now();
+    let k = read_matrix_market(&a.mtx.join("K.mtx"))?;
+    let m = read_matrix_market(&a.mtx.join("M.mtx"))?;
+    if k.nrows() != m.nrows() {
+        return Err(squeal::Error::input(
+            a.mtx.display().to_string(),
+            "M.mtx",
+            format!("K is {0}x{0} but M is {1}x{1}", k.nrows(), m.nrows()),
+        ));
+    }
+    let read_s = started.elapsed().as_secs_f64();
+    println!(
+        "read K ({} nonzeros) and M ({} nonzeros), {} dofs, in {:.2} s",
+        k.val().len(),
+        m.val().len(),
+        k.nrows(),
+        read_s
+    );
+    let sol = solve(
+        &k,
+        &m,
+        &ModalOptions {
+            fmax_hz: a.fmax,
+            rigid_below_hz: 1.0,
+            ..Default::default()
+        },
+    )?;
+    for (i, md) in sol.modes.iter().enumerate() {
+        println!(
+            "mode {i} frequency_hz={:.9e} residual={:.2e}{}",
+            md.frequency_hz,
+            md.residual,
+            if md.rigid { " rigid" } else { "" }
+        );
+    }
+    let rigid = sol.modes.iter().filter(|m| m.rigid).count();
+    println!(
+        "dofs={} read_seconds={:.3} solve_seconds={:.3} factor_seconds={:.3} rigid={} flexible={}",
+        k.nrows(),
+        read_s,
+        sol.solve_seconds,
+        sol.factor_seconds,
+        rigid,
+        sol.modes.len() - rigid
+    );
+    println!(
+        "seconds={:.3} modes={}",
+        started.elapsed().as_secs_f64(),
+        sol.modes.len()
+    );
+    Ok(())
 }
 
 /// Arguments of `squeal bench explicit`.
@@ -34,6 +111,7 @@ pub struct ExplicitBenchArgs {
 /// Run `squeal bench`.
 pub fn run(args: BenchArgs) -> Result<()> {
     match args.what {
+        BenchWhat::Modal(a) => modal(a),
         BenchWhat::Explicit(a) => {
             let r = squeal::explicit::bench::element_throughput(a.elements, a.threads, a.steps)?;
             println!(

@@ -7,12 +7,12 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use squeal::fem::assembly::write_matrix_market;
-use squeal::fem::{assemble, Constraints, ElasticMaterial, MassKind};
+use squeal::fem::{assemble, assemble_volume, Assembled, Constraints, ElasticMaterial, MassKind};
 use squeal::geometry::wheel::WheelSpec;
 use squeal::mesh::wheel::{wheel_mesh, WheelPlacement};
-use squeal::mesh::{material, vtu};
-use squeal::modal::classify::classify_modes;
-use squeal::modal::{solve, ModalOptions};
+use squeal::mesh::{material, volume, vtu};
+use squeal::modal::classify::{classify_modes, classify_modes_points, ModeRecord};
+use squeal::modal::{solve, ModalOptions, ModalSolution};
 use squeal::{Error, Result};
 
 /// Which nodes are clamped.
@@ -28,19 +28,36 @@ pub enum Clamp {
 
 /// Arguments of `squeal modes`.
 #[derive(Args, Debug)]
+#[command(group(clap::ArgGroup::new("body").required(true).args(["wheel", "mesh"])))]
 pub struct ModesArgs {
     /// Wheel file, e.g. data/wheels/ns_intercity_920.json.
+    #[arg(long, conflicts_with = "mesh")]
+    pub wheel: Option<PathBuf>,
+    /// Volume mesh instead of a wheel file: .msh (Gmsh 4.1 ASCII), .vtk (legacy ASCII) or .vtu
+    /// (VTK XML), with 8-node hexahedra and/or 10-node tetrahedra, coordinates in metres.
     #[arg(long)]
-    pub wheel: PathBuf,
+    pub mesh: Option<PathBuf>,
     /// Element size (mm), overriding the wheel file's mesh.element_size_mm.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "mesh")]
     pub element_size_mm: Option<f64>,
+    /// Young's modulus (Pa) of a --mesh body (default: steel, 210e9).
+    #[arg(long, requires = "mesh")]
+    pub youngs_modulus_pa: Option<f64>,
+    /// Poisson's ratio of a --mesh body (default 0.3).
+    #[arg(long, requires = "mesh")]
+    pub poisson_ratio: Option<f64>,
+    /// Density (kg/m³) of a --mesh body (default 7850).
+    #[arg(long, requires = "mesh")]
+    pub density_kg_per_m3: Option<f64>,
     /// Upper band edge (Hz).
     #[arg(long, default_value_t = 10_000.0)]
     pub fmax_hz: f64,
-    /// Boundary condition.
-    #[arg(long, value_enum, default_value_t = Clamp::None)]
-    pub clamp: Clamp,
+    /// Boundary condition: `none` (free-free), `hub-bore` or `axle-ends` (named wheel node sets,
+    /// --wheel only), or a box expression clamping every node inside it, e.g. "x<-1.09" or
+    /// "y>=0.2, r<0.1" (x, y, z in metres, r = sqrt(x² + z²) the distance from the y axis;
+    /// conditions joined by `,` or `&`).
+    #[arg(long, default_value = "none")]
+    pub clamp: String,
     /// Hammer-test CSV to compare with (data/hammer/).
     #[arg(long)]
     pub hammer: Option<PathBuf>,
@@ -61,8 +78,12 @@ pub fn run(args: ModesArgs) -> Result<()> {
             format!("{} is outside the allowed range (0, 1e6] Hz", args.fmax_hz),
         ));
     }
+    let clamp = parse_clamp(&args.clamp)?;
+    let Some(wheel) = args.wheel.clone() else {
+        return run_mesh(&args, clamp);
+    };
     // An unreadable wheel file is bad input (exit code 2), named with the option.
-    let mut spec: WheelSpec = squeal::input::read_json(&args.wheel).map_err(|e| match e {
+    let mut spec: WheelSpec = squeal::input::read_json(&wheel).map_err(|e| match e {
         Error::Io { path, source } => Error::input(
             path,
             "--wheel",
@@ -80,7 +101,7 @@ pub fn run(args: ModesArgs) -> Result<()> {
         }
         spec.mesh.element_size_mm = h;
     }
-    spec.validate(&args.wheel.display().to_string())?;
+    spec.validate(&wheel.display().to_string())?;
     let started = std::time::Instant::now();
     let mut mesh = wheel_mesh(&spec, None, &WheelPlacement::default());
     // Exact rigid modes through the tied web zones (see `Mesh::snap_tie_slaves`).
@@ -95,10 +116,20 @@ pub fn run(args: ModesArgs) -> Result<()> {
             .into_iter()
             .map(|id| (id, steel))
             .collect();
-    let clamped_sets: Vec<String> = match args.clamp {
-        Clamp::None => vec![],
-        Clamp::HubBore => vec!["hub_bore".into()],
-        Clamp::AxleEnds => vec!["axle_inner_end".into(), "axle_outer_end".into()],
+    let clamped_sets: Vec<String> = match clamp {
+        ClampChoice::Named(Clamp::None) => vec![],
+        ClampChoice::Named(Clamp::HubBore) => vec!["hub_bore".into()],
+        ClampChoice::Named(Clamp::AxleEnds) => {
+            vec!["axle_inner_end".into(), "axle_outer_end".into()]
+        }
+        ClampChoice::Box(conditions) => {
+            let ids = volume::select_nodes(&mesh.nodes, &conditions);
+            if ids.is_empty() {
+                return Err(empty_box(&args.clamp));
+            }
+            mesh.add_node_set("clamp_box", ids);
+            vec!["clamp_box".into()]
+        }
     };
     let asm = assemble(
         &mesh,
@@ -122,6 +153,19 @@ pub fn run(args: ModesArgs) -> Result<()> {
         write_matrix_market(&asm.m, &dir.join("M.mtx"))?;
         println!("wrote {}/K.mtx and M.mtx", dir.display());
     }
+    let sol = solve_band(&args, &asm)?;
+    // wheel centre: the axis passes through the tape-circle centre (x = z = 0 by placement)
+    let centre = WheelPlacement::default().tape_circle_centre_m;
+    let shapes = shapes_of(&sol, &asm);
+    let records = classify_modes(&mesh, centre, &shapes);
+    write_outputs(&args, &sol, &shapes, &records, |fields| {
+        vtu::write(&mesh, &args.out.join("modes.vtu"), fields)
+    })
+}
+
+type Shapes = Vec<(f64, f64, bool, Vec<[f64; 3]>)>;
+
+fn solve_band(args: &ModesArgs, asm: &Assembled) -> Result<ModalSolution> {
     let sol = solve(
         &asm.k,
         &asm.m,
@@ -142,14 +186,178 @@ pub fn run(args: ModesArgs) -> Result<()> {
         sol.basis_size,
         sol.runs
     );
-    // wheel centre: the axis passes through the tape-circle centre (x = z = 0 by placement)
-    let centre = WheelPlacement::default().tape_circle_centre_m;
-    let shapes: Vec<(f64, f64, bool, Vec<[f64; 3]>)> = sol
-        .modes
+    Ok(sol)
+}
+
+fn shapes_of(sol: &ModalSolution, asm: &Assembled) -> Shapes {
+    sol.modes
         .iter()
         .map(|m| (m.frequency_hz, m.residual, m.rigid, asm.expand(&m.vector)))
-        .collect();
-    let records = classify_modes(&mesh, centre, &shapes);
+        .collect()
+}
+
+/// The clamp option: a named node set choice or a box expression.
+enum ClampChoice {
+    Named(Clamp),
+    Box(Vec<volume::BoxCondition>),
+}
+
+fn parse_clamp(text: &str) -> Result<ClampChoice> {
+    if let Ok(c) = Clamp::from_str(text.trim(), true) {
+        return Ok(ClampChoice::Named(c));
+    }
+    volume::parse_box_expression(text)
+        .map(ClampChoice::Box)
+        .map_err(|e| {
+            Error::input(
+                "command line",
+                "--clamp",
+                format!(
+                    "{e}; allowed: none, hub-bore, axle-ends, or {}",
+                    volume::BOX_EXPRESSION_FORM
+                ),
+            )
+        })
+}
+
+fn empty_box(text: &str) -> Error {
+    Error::input(
+        "command line",
+        "--clamp",
+        format!(
+            "no mesh node satisfies `{text}`: nothing would be clamped (coordinates are in metres)"
+        ),
+    )
+}
+
+fn positive(v: Option<f64>, default: f64, name: &str, max: f64) -> Result<f64> {
+    match v {
+        None => Ok(default),
+        Some(x) if x.is_finite() && x > 0.0 && x <= max => Ok(x),
+        Some(x) => Err(Error::input(
+            "command line",
+            name,
+            format!("{x} is outside the allowed range (0, {max:e}]"),
+        )),
+    }
+}
+
+/// `squeal modes --mesh FILE`: a user volume mesh (hex8 / tet10).
+fn run_mesh(args: &ModesArgs, clamp: ClampChoice) -> Result<()> {
+    let path = args.mesh.as_ref().expect("clap group: --wheel or --mesh");
+    let steel = ElasticMaterial::steel();
+    let nu = args.poisson_ratio.unwrap_or(steel.poisson_ratio);
+    if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+        return Err(Error::input(
+            "command line",
+            "--poisson-ratio",
+            format!("{nu} is outside the allowed range (-1, 0.5)"),
+        ));
+    }
+    let material = ElasticMaterial {
+        youngs_modulus_pa: positive(
+            args.youngs_modulus_pa,
+            steel.youngs_modulus_pa,
+            "--youngs-modulus-pa",
+            1e13,
+        )?,
+        poisson_ratio: nu,
+        density_kg_per_m3: positive(
+            args.density_kg_per_m3,
+            steel.density_kg_per_m3,
+            "--density-kg-per-m3",
+            1e6,
+        )?,
+    };
+    let started = std::time::Instant::now();
+    let mut mesh = volume::read(path).map_err(|e| match e {
+        Error::Io { path, source } => Error::input(
+            path,
+            "--mesh",
+            format!("cannot read the mesh file ({source})"),
+        ),
+        other => other,
+    })?;
+    let clamped_sets = match clamp {
+        ClampChoice::Named(Clamp::None) => vec![],
+        ClampChoice::Named(c) => {
+            return Err(Error::input(
+                "command line",
+                "--clamp",
+                format!(
+                    "`{c:?}` names wheel node sets and needs --wheel; with --mesh use none or {}",
+                    volume::BOX_EXPRESSION_FORM
+                ),
+            ))
+        }
+        ClampChoice::Box(conditions) => {
+            let ids = volume::select_nodes(&mesh.nodes, &conditions);
+            if ids.is_empty() {
+                let (lo, hi) = mesh.bounds();
+                return Err(Error::input(
+                    "command line",
+                    "--clamp",
+                    format!(
+                        "no mesh node satisfies `{}`; the mesh spans x {:.4}..{:.4}, y {:.4}..{:.4}, z {:.4}..{:.4} m",
+                        args.clamp, lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
+                    ),
+                ));
+            }
+            println!("clamped {} nodes ({})", ids.len(), args.clamp);
+            mesh.set_node_set("clamp_box", ids);
+            vec!["clamp_box".to_string()]
+        }
+    };
+    let materials: BTreeMap<u32, ElasticMaterial> =
+        mesh.material.iter().map(|&id| (id, material)).collect();
+    let asm = assemble_volume(
+        &mesh,
+        &materials,
+        &Constraints {
+            clamped_sets,
+            ties: false,
+        },
+        MassKind::Consistent,
+    )?;
+    let tets = mesh
+        .elements
+        .iter()
+        .filter(|e| matches!(e, volume::VolumeElement::Tet10(_)))
+        .count();
+    println!(
+        "mesh: {} nodes, {} elements ({} hex8, {} tet10), volume {:.6e} m³, {} dofs after constraints (assembled in {:.2} s)",
+        mesh.nodes.len(),
+        mesh.elements.len(),
+        mesh.elements.len() - tets,
+        tets,
+        mesh.volume(),
+        asm.n_reduced,
+        started.elapsed().as_secs_f64()
+    );
+    if let Some(dir) = &args.export_mtx {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        write_matrix_market(&asm.k, &dir.join("K.mtx"))?;
+        write_matrix_market(&asm.m, &dir.join("M.mtx"))?;
+        println!("wrote {}/K.mtx and M.mtx", dir.display());
+    }
+    let sol = solve_band(args, &asm)?;
+    // Classified about the y-parallel axis (ARCHITECTURE.md: the wheel axis is y) through the
+    // volume centroid; for a body that is not a wheel the labels are only descriptive.
+    let c = mesh.centroid();
+    let shapes = shapes_of(&sol, &asm);
+    let records = classify_modes_points(&mesh.nodes, &mesh.nodal_weights(), c, &shapes);
+    write_outputs(args, &sol, &shapes, &records, |fields| {
+        vtu::write_volume(&mesh, &args.out.join("modes.vtu"), fields)
+    })
+}
+
+fn write_outputs(
+    args: &ModesArgs,
+    sol: &ModalSolution,
+    shapes: &Shapes,
+    records: &[ModeRecord],
+    write_vtu: impl FnOnce(&[vtu::PointVectorField]) -> Result<()>,
+) -> Result<()> {
     std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
     let refs: Vec<_> = records.iter().map(|r| r.mode_ref()).collect();
     let json = serde_json::to_string_pretty(&refs).expect("serialisable");
@@ -165,7 +373,7 @@ pub fn run(args: ModesArgs) -> Result<()> {
         "{:>4} {:>10} {:>16} {:>6} {:>10} {:>5}",
         "#", "f (Hz)", "family", "(m,n)", "residual", "pair"
     );
-    for r in &records {
+    for r in records {
         let fam = serde_json::to_value(r.family)
             .expect("family")
             .as_str()
@@ -208,7 +416,7 @@ pub fn run(args: ModesArgs) -> Result<()> {
             values: &s.3,
         })
         .collect();
-    vtu::write(&mesh, &args.out.join("modes.vtu"), &fields)?;
+    write_vtu(&fields)?;
     if let Some(h) = &args.hammer {
         let measured = squeal::hammer::read_hammer_csv(h)?;
         let cmp = squeal::hammer::compare(&measured, &refs);

@@ -18,7 +18,9 @@ use faer::sparse::{SparseColMat, Triplet};
 use rayon::prelude::*;
 
 use super::hex8::{element_matrices, ElasticMaterial};
-use crate::mesh::Mesh;
+use super::tet10;
+use crate::mesh::volume::{VolumeElement, VolumeMesh};
+use crate::mesh::{Mesh, TiedInterface};
 use crate::{Error, Result};
 
 /// Material per element material id.
@@ -77,12 +79,16 @@ impl Assembled {
 /// Per node: (first reduced dof, weight) terms.
 type Expansion = Vec<Vec<(usize, f64)>>;
 
-fn expansions(mesh: &Mesh, constraints: &Constraints) -> Result<(Expansion, usize)> {
-    let n = mesh.node_count();
+fn expansions(
+    n: usize,
+    node_sets: &BTreeMap<String, Vec<usize>>,
+    ties: &[TiedInterface],
+    constraints: &Constraints,
+) -> Result<(Expansion, usize)> {
     let mut clamped = vec![false; n];
     for name in &constraints.clamped_sets {
-        let ids = mesh.node_set(name).ok_or_else(|| {
-            let known: Vec<&str> = mesh.node_sets.keys().map(|s| s.as_str()).collect();
+        let ids = node_sets.get(name).ok_or_else(|| {
+            let known: Vec<&str> = node_sets.keys().map(|s| s.as_str()).collect();
             Error::input(
                 "command line",
                 "clamp",
@@ -101,7 +107,7 @@ fn expansions(mesh: &Mesh, constraints: &Constraints) -> Result<(Expansion, usiz
     }
     let mut slave: HashMap<usize, Vec<(usize, f64)>> = HashMap::new();
     if constraints.ties {
-        for tie in &mesh.ties {
+        for tie in ties {
             for p in &tie.pairs {
                 slave.entry(p.slave).or_insert_with(|| {
                     p.master
@@ -171,7 +177,82 @@ pub fn assemble(
     constraints: &Constraints,
     mass: MassKind,
 ) -> Result<Assembled> {
-    for (e, id) in mesh.material.iter().enumerate() {
+    check_materials(&mesh.material, materials)?;
+    let (expansion, n_reduced) =
+        expansions(mesh.node_count(), &mesh.node_sets, &mesh.ties, constraints)?;
+    let lumped = mass == MassKind::Lumped;
+    let (k, m) = assemble_elements(
+        mesh.element_count(),
+        &expansion,
+        n_reduced,
+        |e, buf: &mut ElementBuffer| {
+            let x = mesh.element_coords(e);
+            let mat = &materials[&mesh.material[e]];
+            let em = element_matrices(&x, mat, lumped).ok_or_else(|| inverted(e))?;
+            buf.set(
+                &mesh.elements[e],
+                em.k.iter().flatten(),
+                em.m.iter().flatten(),
+            );
+            Ok(())
+        },
+    )?;
+    Ok(Assembled {
+        k,
+        m,
+        expansion,
+        n_reduced,
+    })
+}
+
+/// Assemble reduced K and M (lower triangles) of a mixed hex8 / tet10 [`VolumeMesh`]
+/// (`constraints.ties` is ignored: a volume mesh has no tied interfaces).
+pub fn assemble_volume(
+    mesh: &VolumeMesh,
+    materials: &Materials,
+    constraints: &Constraints,
+    mass: MassKind,
+) -> Result<Assembled> {
+    check_materials(&mesh.material, materials)?;
+    let (expansion, n_reduced) = expansions(mesh.nodes.len(), &mesh.node_sets, &[], constraints)?;
+    let lumped = mass == MassKind::Lumped;
+    let (k, m) = assemble_elements(
+        mesh.elements.len(),
+        &expansion,
+        n_reduced,
+        |e, buf: &mut ElementBuffer| {
+            let mat = &materials[&mesh.material[e]];
+            match &mesh.elements[e] {
+                VolumeElement::Hex8(c) => {
+                    let x = c.map(|n| mesh.nodes[n]);
+                    let em = element_matrices(&x, mat, lumped).ok_or_else(|| inverted(e))?;
+                    buf.set(c, em.k.iter().flatten(), em.m.iter().flatten());
+                }
+                VolumeElement::Tet10(c) => {
+                    let x = c.map(|n| mesh.nodes[n]);
+                    let em = tet10::element_matrices(&x, mat, lumped).ok_or_else(|| inverted(e))?;
+                    buf.set(c, em.k.iter().flatten(), em.m.iter().flatten());
+                }
+            }
+            Ok(())
+        },
+    )?;
+    Ok(Assembled {
+        k,
+        m,
+        expansion,
+        n_reduced,
+    })
+}
+
+fn inverted(e: usize) -> Error {
+    Error::Mesh(format!(
+        "element {e} is inverted or degenerate (det J <= 0)"
+    ))
+}
+
+fn check_materials(ids: &[u32], materials: &Materials) -> Result<()> {
+    for (e, id) in ids.iter().enumerate() {
         if !materials.contains_key(id) {
             return Err(Error::Mesh(format!(
                 "element {e} has material id {id} but no material was given for it (known ids: {:?})",
@@ -179,31 +260,66 @@ pub fn assemble(
             )));
         }
     }
-    let (expansion, n_reduced) = expansions(mesh, constraints)?;
+    Ok(())
+}
+
+/// One element's node list and dense row-major `3n x 3n` K and M, reused across elements.
+#[derive(Default)]
+struct ElementBuffer {
+    conn: Vec<usize>,
+    k: Vec<f64>,
+    m: Vec<f64>,
+}
+
+impl ElementBuffer {
+    fn set<'a>(
+        &mut self,
+        conn: &[usize],
+        k: impl Iterator<Item = &'a f64>,
+        m: impl Iterator<Item = &'a f64>,
+    ) {
+        self.conn.clear();
+        self.conn.extend_from_slice(conn);
+        self.k.clear();
+        self.k.extend(k);
+        self.m.clear();
+        self.m.extend(m);
+    }
+}
+
+type SparsePair = (SparseColMat<usize, f64>, SparseColMat<usize, f64>);
+
+/// The scatter loop shared by every element kind: `element(e, buffer)` fills the buffer with
+/// element `e`'s nodes and matrices; each element dof is expanded into its (reduced dof,
+/// weight) list and the lower-triangle triplets are summed by faer.
+fn assemble_elements<F>(
+    n_elements: usize,
+    expansion: &Expansion,
+    n_reduced: usize,
+    element: F,
+) -> Result<SparsePair>
+where
+    F: Fn(usize, &mut ElementBuffer) -> Result<()> + Sync,
+{
     if n_reduced == 0 {
         return Err(Error::Mesh(
             "every node is constrained: no degrees of freedom left".into(),
         ));
     }
-    let lumped = mass == MassKind::Lumped;
     type Trip = Triplet<usize, usize, f64>;
-    let chunks: Vec<Result<(Vec<Trip>, Vec<Trip>)>> = (0..mesh.element_count())
+    let chunks: Vec<Result<(Vec<Trip>, Vec<Trip>)>> = (0..n_elements)
         .collect::<Vec<_>>()
         .par_chunks(256)
         .map(|chunk| {
             let mut tk = Vec::new();
             let mut tm = Vec::new();
+            let mut buf = ElementBuffer::default();
             for &e in chunk {
-                let x = mesh.element_coords(e);
-                let mat = &materials[&mesh.material[e]];
-                let em = element_matrices(&x, mat, lumped).ok_or_else(|| {
-                    Error::Mesh(format!(
-                        "element {e} is inverted or degenerate (det J <= 0)"
-                    ))
-                })?;
-                let conn = &mesh.elements[e];
-                for a in 0..8 {
-                    for b in 0..8 {
+                element(e, &mut buf)?;
+                let conn = &buf.conn;
+                let nd = 3 * conn.len();
+                for a in 0..conn.len() {
+                    for b in 0..conn.len() {
                         for &(ra, wa) in &expansion[conn[a]] {
                             for &(rb, wb) in &expansion[conn[b]] {
                                 let w = wa * wb;
@@ -213,11 +329,12 @@ pub fn assemble(
                                         if i < j {
                                             continue;
                                         }
-                                        let kv = em.k[3 * a + ca][3 * b + cb];
+                                        let at = (3 * a + ca) * nd + 3 * b + cb;
+                                        let kv = buf.k[at];
                                         if kv != 0.0 {
                                             tk.push(Triplet::new(i, j, w * kv));
                                         }
-                                        let mv = em.m[3 * a + ca][3 * b + cb];
+                                        let mv = buf.m[at];
                                         if mv != 0.0 {
                                             tm.push(Triplet::new(i, j, w * mv));
                                         }
@@ -245,12 +362,7 @@ pub fn assemble(
     let k = build(&tk)?;
     drop(tk);
     let m = build(&tm)?;
-    Ok(Assembled {
-        k,
-        m,
-        expansion,
-        n_reduced,
-    })
+    Ok((k, m))
 }
 
 /// `y = A x` for a symmetric matrix stored as its lower triangle.
@@ -293,4 +405,97 @@ pub fn write_matrix_market(a: &SparseColMat<usize, f64>, path: &std::path::Path)
         }
     }
     w.flush().map_err(io)
+}
+
+/// Read a Matrix Market `coordinate real symmetric` file (as [`write_matrix_market`] writes) into
+/// a lower-triangle sparse matrix. Entries above the diagonal are mirrored into the lower
+/// triangle; duplicates are summed. Errors name the file and line.
+pub fn read_matrix_market(path: &std::path::Path) -> Result<SparseColMat<usize, f64>> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let bad = |line: usize, msg: String| Error::input(&name, format!("line {line}"), msg);
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
+    let (_, header) = lines
+        .next()
+        .ok_or_else(|| bad(1, "empty file (expected a Matrix Market header)".into()))?;
+    let h: Vec<String> = header
+        .split_whitespace()
+        .map(|t| t.to_ascii_lowercase())
+        .collect();
+    if h.len() != 5 || h[0] != "%%matrixmarket" || h[1] != "matrix" || h[2] != "coordinate" {
+        return Err(bad(
+            1,
+            format!("expected `%%MatrixMarket matrix coordinate real symmetric`, got `{header}`"),
+        ));
+    }
+    if h[3] != "real" || h[4] != "symmetric" {
+        return Err(bad(
+            1,
+            format!(
+                "only `real symmetric` matrices are supported, got `{} {}`",
+                h[3], h[4]
+            ),
+        ));
+    }
+    let mut data = lines.filter(|(_, l)| !l.is_empty() && !l.starts_with('%'));
+    let (ls, size) = data
+        .next()
+        .ok_or_else(|| bad(2, "missing the size line `rows cols entries`".into()))?;
+    let dims: Vec<usize> = size
+        .split_whitespace()
+        .map(|t| t.parse::<usize>())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| bad(ls, format!("expected `rows cols entries`, got `{size}`")))?;
+    if dims.len() != 3 || dims[0] != dims[1] || dims[0] == 0 {
+        return Err(bad(
+            ls,
+            format!("expected a non-empty square matrix `n n entries`, got `{size}`"),
+        ));
+    }
+    let (n, nnz) = (dims[0], dims[2]);
+    let mut trips = Vec::with_capacity(nnz.min(text.len() / 6 + 1));
+    for (l, line) in data {
+        let mut it = line.split_whitespace();
+        let parsed = (|| {
+            let i: usize = it.next()?.parse().ok()?;
+            let j: usize = it.next()?.parse().ok()?;
+            let v: f64 = it.next()?.parse().ok()?;
+            it.next().is_none().then_some((i, j, v))
+        })();
+        let (i, j, v) =
+            parsed.ok_or_else(|| bad(l, format!("expected `row col value`, got `{line}`")))?;
+        if i == 0 || j == 0 || i > n || j > n {
+            return Err(bad(
+                l,
+                format!("index ({i}, {j}) outside the 1-based range 1..={n}"),
+            ));
+        }
+        if !v.is_finite() {
+            return Err(bad(l, format!("non-finite value {v}")));
+        }
+        if trips.len() == nnz {
+            return Err(bad(
+                l,
+                format!("more entries than the {nnz} the size line declares"),
+            ));
+        }
+        let (r, c) = if i >= j {
+            (i - 1, j - 1)
+        } else {
+            (j - 1, i - 1)
+        };
+        trips.push(Triplet::new(r, c, v));
+    }
+    if trips.len() != nnz {
+        return Err(Error::input(
+            &name,
+            "entries",
+            format!(
+                "{} entries, but the size line declares {nnz} (truncated file?)",
+                trips.len()
+            ),
+        ));
+    }
+    SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &trips)
+        .map_err(|e| Error::Numerical(format!("{name}: sparse matrix creation failed: {e:?}")))
 }

@@ -1,9 +1,10 @@
-//! Linear finite elements for modal analysis: the 8-node hexahedron (stiffness, consistent and
-//! lumped mass), materials per element id, and parallel sparse assembly with constraint
+//! Finite elements for modal analysis: the 8-node hexahedron and the 10-node tetrahedron
+//! (stiffness, consistent and lumped mass), materials per element id, and parallel sparse assembly with constraint
 //! elimination (clamped node sets, tied interfaces).
 
 pub mod assembly;
 pub mod hex8;
+pub mod tet10;
 
-pub use assembly::{assemble, Assembled, Constraints, MassKind, Materials};
+pub use assembly::{assemble, assemble_volume, Assembled, Constraints, MassKind, Materials};
 pub use hex8::{ElasticMaterial, ElementMatrices};

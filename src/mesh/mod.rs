@@ -10,6 +10,8 @@ pub mod rail;
 pub mod section;
 pub mod tie;
 pub mod track;
+pub mod volume;
+pub mod vtk_legacy;
 pub mod vtu;
 pub mod wheel;
 

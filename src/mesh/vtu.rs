@@ -6,10 +6,12 @@
 //! `set_<name>` per node set (1 = member), plus any extra point vectors (mode shapes,
 //! displacements) the caller adds.
 
+use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::Path;
 
-use super::Mesh;
+use super::volume::VolumeMesh;
+use super::{Mesh, P3};
 use crate::{Error, Result};
 
 const B64: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -103,7 +105,55 @@ fn write_to(
     w: &mut impl Write,
     extra_vectors: &[PointVectorField],
 ) -> std::io::Result<()> {
-    let (nn, ne) = (mesh.nodes.len(), mesh.elements.len());
+    let cells: Vec<(&[usize], u8)> = mesh
+        .elements
+        .iter()
+        .map(|c| (c.as_slice(), 12u8)) // VTK_HEXAHEDRON
+        .collect();
+    write_grid(
+        w,
+        &mesh.nodes,
+        &mesh.node_sets,
+        &mesh.material,
+        &cells,
+        extra_vectors,
+    )
+}
+
+/// Write a mixed hex8 / tet10 [`VolumeMesh`] (hexahedra as VTK type 12, quadratic tetrahedra as
+/// type 24, VTK node order) with per-node vector fields.
+pub fn write_volume(
+    mesh: &VolumeMesh,
+    path: &Path,
+    extra_vectors: &[PointVectorField],
+) -> Result<()> {
+    let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+    let mut w = std::io::BufWriter::new(file);
+    let cells: Vec<(&[usize], u8)> = mesh
+        .elements
+        .iter()
+        .map(|c| (c.nodes(), c.vtk_type()))
+        .collect();
+    write_grid(
+        &mut w,
+        &mesh.nodes,
+        &mesh.node_sets,
+        &mesh.material,
+        &cells,
+        extra_vectors,
+    )
+    .map_err(|e| Error::io(path, e))
+}
+
+fn write_grid(
+    w: &mut impl Write,
+    nodes: &[P3],
+    node_sets: &BTreeMap<String, Vec<usize>>,
+    material: &[u32],
+    cells: &[(&[usize], u8)],
+    extra_vectors: &[PointVectorField],
+) -> std::io::Result<()> {
+    let (nn, ne) = (nodes.len(), cells.len());
     writeln!(w, r#"<?xml version="1.0"?>"#)?;
     writeln!(
         w,
@@ -114,7 +164,7 @@ fn write_to(
         "<UnstructuredGrid>\n<Piece NumberOfPoints=\"{nn}\" NumberOfCells=\"{ne}\">"
     )?;
     writeln!(w, "<PointData>")?;
-    for (name, ids) in &mesh.node_sets {
+    for (name, ids) in node_sets {
         let mut flag = vec![0u8; nn];
         for &i in ids {
             flag[i] = 1;
@@ -134,8 +184,7 @@ fn write_to(
         writeln!(w, "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\" format=\"binary\">{}</DataArray>", field.name, encode_block(&bytes))?;
     }
     writeln!(w, "</PointData>\n<CellData>")?;
-    let mat: Vec<u8> = mesh
-        .material
+    let mat: Vec<u8> = material
         .iter()
         .flat_map(|&m| (m as i32).to_le_bytes())
         .collect();
@@ -145,8 +194,7 @@ fn write_to(
         encode_block(&mat)
     )?;
     writeln!(w, "</CellData>\n<Points>")?;
-    let pts: Vec<u8> = mesh
-        .nodes
+    let pts: Vec<u8> = nodes
         .iter()
         .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
         .collect();
@@ -156,25 +204,29 @@ fn write_to(
         encode_block(&pts)
     )?;
     writeln!(w, "</Points>\n<Cells>")?;
-    let conn: Vec<u8> = mesh
-        .elements
+    let conn: Vec<u8> = cells
         .iter()
-        .flat_map(|c| c.iter().flat_map(|&n| (n as i64).to_le_bytes()))
+        .flat_map(|c| c.0.iter().flat_map(|&n| (n as i64).to_le_bytes()))
         .collect();
     writeln!(
         w,
         "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"binary\">{}</DataArray>",
         encode_block(&conn)
     )?;
-    let offsets: Vec<u8> = (1..=ne)
-        .flat_map(|k| ((8 * k) as i64).to_le_bytes())
+    let offsets: Vec<u8> = cells
+        .iter()
+        .scan(0i64, |end, c| {
+            *end += c.0.len() as i64;
+            Some(*end)
+        })
+        .flat_map(|o| o.to_le_bytes())
         .collect();
     writeln!(
         w,
         "<DataArray type=\"Int64\" Name=\"offsets\" format=\"binary\">{}</DataArray>",
         encode_block(&offsets)
     )?;
-    let types = vec![12u8; ne]; // VTK_HEXAHEDRON
+    let types: Vec<u8> = cells.iter().map(|c| c.1).collect();
     writeln!(
         w,
         "<DataArray type=\"UInt8\" Name=\"types\" format=\"binary\">{}</DataArray>",
@@ -223,6 +275,12 @@ fn decode_array(path: &str, attrs: &str, body: &str) -> Result<Vec<f64>> {
                     .map_err(|_| bad(path, format!("bad number `{t}`")))
             })
             .collect();
+    }
+    if format == "appended" {
+        return Err(bad(
+            path,
+            "appended data (format=\"appended\") is not supported: save the file with ASCII data arrays (ParaView: Data Mode = Ascii)",
+        ));
     }
     if format != "binary" {
         return Err(bad(

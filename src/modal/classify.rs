@@ -90,14 +90,24 @@ pub fn classify_shape(
     centre: [f64; 3],
     u: &[[f64; 3]],
 ) -> ShapeClass {
-    let n_nodes = mesh.node_count();
+    classify_shape_points(&mesh.nodes, weights, centre, u)
+}
+
+/// [`classify_shape`] on bare node coordinates (any mesh kind).
+pub fn classify_shape_points(
+    nodes: &[[f64; 3]],
+    weights: &[f64],
+    centre: [f64; 3],
+    u: &[[f64; 3]],
+) -> ShapeClass {
+    let n_nodes = nodes.len();
     let mut cyl = vec![[0.0; 3]; n_nodes]; // axial, radial, circumferential
     let mut radius = vec![0.0; n_nodes];
     let mut angle = vec![0.0; n_nodes];
     let mut energy = [0.0; 3];
     for i in 0..n_nodes {
-        let dx = mesh.nodes[i][0] - centre[0];
-        let dz = mesh.nodes[i][2] - centre[2];
+        let dx = nodes[i][0] - centre[0];
+        let dz = nodes[i][2] - centre[2];
         let r = dx.hypot(dz);
         radius[i] = r;
         angle[i] = dz.atan2(dx);
@@ -207,10 +217,21 @@ pub fn classify_modes(
     centre: [f64; 3],
     modes: &[(f64, f64, bool, Vec<[f64; 3]>)],
 ) -> Vec<ModeRecord> {
-    let weights = nodal_weights(mesh);
+    classify_modes_points(&mesh.nodes, &nodal_weights(mesh), centre, modes)
+}
+
+/// [`classify_modes`] on bare node coordinates and nodal weights (any mesh kind, e.g. a
+/// [`crate::mesh::volume::VolumeMesh`] with its `nodal_weights`); the axis is y-parallel through
+/// `centre`.
+pub fn classify_modes_points(
+    nodes: &[[f64; 3]],
+    weights: &[f64],
+    centre: [f64; 3],
+    modes: &[(f64, f64, bool, Vec<[f64; 3]>)],
+) -> Vec<ModeRecord> {
     let classes: Vec<ShapeClass> = modes
         .iter()
-        .map(|(_, _, _, u)| classify_shape(mesh, &weights, centre, u))
+        .map(|(_, _, _, u)| classify_shape_points(nodes, weights, centre, u))
         .collect();
     let mut out: Vec<ModeRecord> = Vec::new();
     let mut i = 0;

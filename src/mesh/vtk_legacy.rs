@@ -1,0 +1,387 @@
+//! Legacy VTK (`.vtk`) reader: ASCII `DATASET UNSTRUCTURED_GRID`, file versions 2.0 to 5.1
+//! (`CELLS` as `n k i0 .. ik-1` lines, or the 5.x `OFFSETS` / `CONNECTIVITY` arrays),
+//! `CELL_TYPES`, and `CELL_DATA` scalars / field arrays (kept by name, as f64). Point data and
+//! metadata are skipped. BINARY files are refused with a message.
+//!
+//! Every error names the file and the line.
+
+use std::path::Path;
+
+use super::vtu::VtuContents;
+use crate::{Error, Result};
+
+struct Tokens<'a> {
+    /// (1-based line, token)
+    tokens: Vec<(usize, &'a str)>,
+    /// Blank line numbers (METADATA blocks end at one).
+    blank: Vec<usize>,
+    at: usize,
+    path: &'a str,
+    last_line: usize,
+}
+
+impl<'a> Tokens<'a> {
+    fn err(&self, line: usize, msg: impl Into<String>) -> Error {
+        Error::input(self.path, format!("line {line}"), msg)
+    }
+    fn next(&mut self, what: &str) -> Result<(usize, &'a str)> {
+        match self.tokens.get(self.at) {
+            Some(&t) => {
+                self.at += 1;
+                Ok(t)
+            }
+            None => Err(self.err(
+                self.last_line + 1,
+                format!("unexpected end of file while reading {what} (truncated file?)"),
+            )),
+        }
+    }
+    fn peek(&self) -> Option<(usize, &'a str)> {
+        self.tokens.get(self.at).copied()
+    }
+    fn count(&mut self, what: &str) -> Result<usize> {
+        let (l, t) = self.next(what)?;
+        t.parse::<usize>().map_err(|_| {
+            self.err(
+                l,
+                format!("expected {what} (a non-negative integer), got `{t}`"),
+            )
+        })
+    }
+    fn number(&mut self, what: &str) -> Result<f64> {
+        let (l, t) = self.next(what)?;
+        t.parse::<f64>()
+            .map_err(|_| self.err(l, format!("expected {what} (a number), got `{t}`")))
+    }
+    fn index(&mut self, what: &str, n_points: usize) -> Result<usize> {
+        let (l, t) = self.next(what)?;
+        let v: i64 = t
+            .parse()
+            .map_err(|_| self.err(l, format!("expected {what} (an integer), got `{t}`")))?;
+        if v < 0 || v as u64 >= n_points as u64 {
+            return Err(self.err(
+                l,
+                format!(
+                    "{what} {v} is out of range: there are {n_points} points (0-based indices)"
+                ),
+            ));
+        }
+        Ok(v as usize)
+    }
+    /// Bounded capacity for a count read from the file (a corrupt count must not allocate).
+    fn cap(&self, n: usize) -> usize {
+        n.min(self.tokens.len() - self.at)
+    }
+}
+
+/// Read a legacy ASCII `.vtk` unstructured grid.
+pub fn read(path: &Path) -> Result<VtuContents> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| match e.kind() {
+        std::io::ErrorKind::InvalidData => Error::input(
+            &name,
+            "line 3",
+            "the file is not text (BINARY legacy VTK is not supported: save as ASCII)",
+        ),
+        _ => Error::io(path, e),
+    })?;
+    parse(&name, &text)
+}
+
+fn parse(name: &str, text: &str) -> Result<VtuContents> {
+    let lines: Vec<&str> = text.lines().collect();
+    let bad = |line: usize, msg: String| Error::input(name, format!("line {line}"), msg);
+    let header = lines.first().map(|l| l.trim()).unwrap_or("");
+    if !header.starts_with("# vtk DataFile Version") {
+        return Err(bad(
+            1,
+            format!(
+                "expected `# vtk DataFile Version x.y`, got `{header}` (not a legacy VTK file)"
+            ),
+        ));
+    }
+    let format = lines.get(2).map(|l| l.trim()).unwrap_or("");
+    match format.to_ascii_uppercase().as_str() {
+        "ASCII" => {}
+        "BINARY" => {
+            return Err(bad(
+                3,
+                "BINARY legacy VTK is not supported: save the file as ASCII".into(),
+            ))
+        }
+        _ => return Err(bad(3, format!("expected ASCII or BINARY, got `{format}`"))),
+    }
+    let mut t = Tokens {
+        tokens: Vec::new(),
+        blank: Vec::new(),
+        at: 0,
+        path: name,
+        last_line: lines.len(),
+    };
+    for (i, l) in lines.iter().enumerate().skip(3) {
+        if l.trim().is_empty() {
+            t.blank.push(i + 1);
+        }
+        for tok in l.split_whitespace() {
+            t.tokens.push((i + 1, tok));
+        }
+    }
+    let (l, kw) = t.next("DATASET")?;
+    let (l2, ds) = t.next("the dataset type")?;
+    if !kw.eq_ignore_ascii_case("DATASET") {
+        return Err(bad(
+            l,
+            format!("expected `DATASET UNSTRUCTURED_GRID`, got `{kw}`"),
+        ));
+    }
+    if !ds.eq_ignore_ascii_case("UNSTRUCTURED_GRID") {
+        return Err(bad(
+            l2,
+            format!("dataset `{ds}` is not supported: only UNSTRUCTURED_GRID"),
+        ));
+    }
+    let mut out = VtuContents::default();
+    let mut n_cells_declared: Option<usize> = None;
+    // (CELL_DATA or POINT_DATA, count) of the attribute section being read
+    let mut section: Option<(bool, usize)> = None;
+    while let Some((line, kw)) = t.peek() {
+        t.at += 1;
+        match kw.to_ascii_uppercase().as_str() {
+            "POINTS" => {
+                let n = t.count("the number of points")?;
+                t.next("the point data type")?;
+                out.points = Vec::with_capacity(t.cap(n));
+                for _ in 0..n {
+                    let x = t.number("a point coordinate")?;
+                    let y = t.number("a point coordinate")?;
+                    let z = t.number("a point coordinate")?;
+                    out.points.push([x, y, z]);
+                }
+            }
+            "CELLS" => {
+                let n = t.count("the number of cells")?;
+                let size = t.count("the cell list size")?;
+                let np = out.points.len();
+                if out.points.is_empty() {
+                    return Err(bad(line, "CELLS before POINTS (or no points)".into()));
+                }
+                if matches!(t.peek(), Some((_, k)) if k.eq_ignore_ascii_case("OFFSETS")) {
+                    // version 5.x: n = offsets count (cells + 1), size = connectivity length
+                    t.next("OFFSETS")?;
+                    t.next("the offsets type")?;
+                    let mut offsets = Vec::with_capacity(t.cap(n));
+                    for _ in 0..n {
+                        offsets.push(t.count("a cell offset")?);
+                    }
+                    let (lc, kc) = t.next("CONNECTIVITY")?;
+                    if !kc.eq_ignore_ascii_case("CONNECTIVITY") {
+                        return Err(bad(lc, format!("expected CONNECTIVITY, got `{kc}`")));
+                    }
+                    t.next("the connectivity type")?;
+                    let mut conn = Vec::with_capacity(t.cap(size));
+                    for _ in 0..size {
+                        conn.push(t.index("a cell point index", np)?);
+                    }
+                    for w in offsets.windows(2) {
+                        if w[0] > w[1] || w[1] > conn.len() {
+                            return Err(bad(
+                                line,
+                                format!("cell offsets {} .. {} out of range (connectivity has {} entries)", w[0], w[1], conn.len()),
+                            ));
+                        }
+                        out.cells.push(conn[w[0]..w[1]].to_vec());
+                    }
+                } else {
+                    let mut used = 0;
+                    for _ in 0..n {
+                        let (lk, _) = t.peek().unwrap_or((t.last_line + 1, ""));
+                        let k = t.count("the node count of a cell")?;
+                        used += k + 1;
+                        if used > size {
+                            return Err(bad(
+                                lk,
+                                format!("cell list is longer than the declared size {size}"),
+                            ));
+                        }
+                        let mut cell = Vec::with_capacity(t.cap(k));
+                        for _ in 0..k {
+                            cell.push(t.index("a cell point index", np)?);
+                        }
+                        out.cells.push(cell);
+                    }
+                    if used != size {
+                        return Err(bad(
+                            line,
+                            format!("cell list size is {used}, but the header declares {size}"),
+                        ));
+                    }
+                }
+                n_cells_declared = Some(out.cells.len());
+            }
+            "CELL_TYPES" => {
+                let n = t.count("the number of cell types")?;
+                if Some(n) != n_cells_declared {
+                    return Err(bad(
+                        line,
+                        format!(
+                            "CELL_TYPES has {n} entries but CELLS has {}",
+                            n_cells_declared.map_or("no".into(), |c| c.to_string())
+                        ),
+                    ));
+                }
+                for _ in 0..n {
+                    let (lt, tok) = t.next("a cell type")?;
+                    let ty: u8 = tok
+                        .parse()
+                        .map_err(|_| bad(lt, format!("`{tok}` is not a VTK cell type")))?;
+                    out.cell_types.push(ty);
+                }
+            }
+            "CELL_DATA" => {
+                section = Some((true, t.count("the number of cell values")?));
+            }
+            "POINT_DATA" => {
+                section = Some((false, t.count("the number of point values")?));
+            }
+            "SCALARS"
+            | "VECTORS"
+            | "NORMALS"
+            | "TENSORS"
+            | "COLOR_SCALARS"
+            | "TEXTURE_COORDINATES" => {
+                let Some((cell, n)) = section else {
+                    return Err(bad(line, format!("{kw} outside CELL_DATA / POINT_DATA")));
+                };
+                let (_, aname) = t.next("the array name")?;
+                let upper = kw.to_ascii_uppercase();
+                let ncomp = match upper.as_str() {
+                    "SCALARS" => {
+                        t.next("the data type")?;
+                        // optional component count on the SCALARS line, then (usually) a
+                        // LOOKUP_TABLE line
+                        let mut nc = 1;
+                        if let Some((l, v)) = t.peek() {
+                            if l == line {
+                                nc = v
+                                    .parse::<usize>()
+                                    .ok()
+                                    .filter(|c| (1..=4).contains(c))
+                                    .ok_or_else(|| {
+                                        bad(
+                                            l,
+                                            format!(
+                                                "SCALARS component count must be 1 to 4, got `{v}`"
+                                            ),
+                                        )
+                                    })?;
+                                t.at += 1;
+                            }
+                        }
+                        if matches!(t.peek(), Some((_, k)) if k.eq_ignore_ascii_case("LOOKUP_TABLE"))
+                        {
+                            t.at += 2;
+                        }
+                        nc
+                    }
+                    "VECTORS" | "NORMALS" => {
+                        t.next("the data type")?;
+                        3
+                    }
+                    "TENSORS" => {
+                        t.next("the data type")?;
+                        9
+                    }
+                    "COLOR_SCALARS" | "TEXTURE_COORDINATES" => {
+                        let c = t.count("the component count")?;
+                        if upper == "TEXTURE_COORDINATES" {
+                            t.next("the data type")?;
+                        }
+                        c
+                    }
+                    _ => 1,
+                };
+                let mut vals = Vec::with_capacity(t.cap(n * ncomp));
+                for _ in 0..n * ncomp {
+                    vals.push(t.number("a data value")?);
+                }
+                if cell {
+                    out.cell_data.insert(aname.to_string(), vals);
+                } else {
+                    out.point_data.insert(aname.to_string(), vals);
+                }
+            }
+            "FIELD" => {
+                let Some((cell, _)) = section else {
+                    return Err(bad(line, "FIELD outside CELL_DATA / POINT_DATA".into()));
+                };
+                t.next("the field name")?;
+                let arrays = t.count("the number of field arrays")?;
+                for _ in 0..arrays {
+                    let (_, aname) = t.next("the array name")?;
+                    let nc = t.count("the component count")?;
+                    let nt = t.count("the tuple count")?;
+                    t.next("the data type")?;
+                    let mut vals = Vec::with_capacity(t.cap(nc.saturating_mul(nt)));
+                    for _ in 0..nc.saturating_mul(nt) {
+                        vals.push(t.number("a data value")?);
+                    }
+                    if cell {
+                        out.cell_data.insert(aname.to_string(), vals);
+                    } else {
+                        out.point_data.insert(aname.to_string(), vals);
+                    }
+                }
+            }
+            "LOOKUP_TABLE" => {
+                t.next("the table name")?;
+                let n = t.count("the table size")?;
+                for _ in 0..4 * n {
+                    t.number("a table value")?;
+                }
+            }
+            "METADATA" => {
+                // skip to the next blank line
+                let end = t.blank.iter().copied().find(|&b| b > line);
+                match end {
+                    Some(b) => {
+                        while matches!(t.peek(), Some((l, _)) if l < b) {
+                            t.at += 1;
+                        }
+                    }
+                    None => t.at = t.tokens.len(),
+                }
+            }
+            other => {
+                return Err(bad(
+                    line,
+                    format!(
+                        "unexpected keyword `{kw}`{}",
+                        if other.parse::<f64>().is_ok() {
+                            " (a number: more values than the section header declares?)"
+                        } else {
+                            ""
+                        }
+                    ),
+                ))
+            }
+        }
+    }
+    if out.points.is_empty() {
+        return Err(Error::input(name, "POINTS", "no points in the file"));
+    }
+    if n_cells_declared.is_none() {
+        return Err(Error::input(name, "CELLS", "no CELLS section in the file"));
+    }
+    if out.cell_types.len() != out.cells.len() {
+        return Err(Error::input(
+            name,
+            "CELL_TYPES",
+            format!(
+                "{} cell types for {} cells (missing CELL_TYPES section?)",
+                out.cell_types.len(),
+                out.cells.len()
+            ),
+        ));
+    }
+    Ok(out)
+}
