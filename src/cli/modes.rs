@@ -186,6 +186,12 @@ fn solve_band(args: &ModesArgs, asm: &Assembled) -> Result<ModalSolution> {
         sol.basis_size,
         sol.runs
     );
+    if let Some(count) = sol.sturm_count {
+        println!(
+            "Sturm count: {count} eigenvalues below {} Hz, all found",
+            args.fmax_hz
+        );
+    }
     Ok(sol)
 }
 
