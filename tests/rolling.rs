@@ -361,8 +361,8 @@ fn window_mean(t: &Table, name: &str, from: f64, to: f64) -> f64 {
     sum / n.max(1) as f64
 }
 
-/// Issue 5, case 1 against case 3 and case 4 at the demo resolution (about 5 minutes per case
-/// on the idle 2-core machine: `cargo test --release --test rolling -- --ignored`). After the
+/// Issue 5, case 1 against case 3 and case 4 at the demo resolution (11-15 minutes per case on
+/// the shared 2-core machine: `cargo test --release --test rolling -- --ignored demo_cases`). After the
 /// lateral motion starts (16 ms) the lateral contact force is larger in case 3 than in case 1,
 /// and in case 4 (1.1 % imposed lateral creepage) the creep force reaches the traction bound,
 /// which it does not in cases 1 and 3.
@@ -407,8 +407,8 @@ fn demo_cases_lateral_force_grows_with_the_motion_and_case4_saturates() {
 }
 
 /// Issue 5, static normal contact at 1 mm (`data/scenarios/static-hertz.json`, 251 k elements;
-/// about 10 minutes on the idle 2-core machine: `cargo test --release --test rolling --
-/// --ignored static`): the patch of the preloaded wheel against Hertz for the local
+/// not run yet: its preload of 13-20 k steps should take 15-20 minutes on the idle 2-core
+/// machine; `cargo test --release --test rolling -- --ignored static`): the patch of the preloaded wheel against Hertz for the local
 /// curvatures of S1002 on 54E1 at 1:40 at the measured normal force. Semi-axes from the
 /// pressure-weighted second moments, which for a Hertz pressure `p0 sqrt(1 - x²/a² - y²/b²)`
 /// are `a² / 5` and `b² / 5`; peak pressure against `3 N / (2 pi a b)`. 10 %: the issue's
