@@ -148,10 +148,7 @@ pub fn run(args: ModesArgs) -> Result<()> {
         started.elapsed().as_secs_f64()
     );
     if let Some(dir) = &args.export_mtx {
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        write_matrix_market(&asm.k, &dir.join("K.mtx"))?;
-        write_matrix_market(&asm.m, &dir.join("M.mtx"))?;
-        println!("wrote {}/K.mtx and M.mtx", dir.display());
+        export_matrices(&asm, dir)?;
     }
     let sol = solve_band(&args, &asm)?;
     // wheel centre: the axis passes through the tape-circle centre (x = z = 0 by placement)
@@ -341,10 +338,7 @@ fn run_mesh(args: &ModesArgs, clamp: ClampChoice) -> Result<()> {
         started.elapsed().as_secs_f64()
     );
     if let Some(dir) = &args.export_mtx {
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        write_matrix_market(&asm.k, &dir.join("K.mtx"))?;
-        write_matrix_market(&asm.m, &dir.join("M.mtx"))?;
-        println!("wrote {}/K.mtx and M.mtx", dir.display());
+        export_matrices(&asm, dir)?;
     }
     let sol = solve_band(args, &asm)?;
     // Classified about the y-parallel axis (ARCHITECTURE.md: the wheel axis is y) through the
@@ -439,5 +433,14 @@ fn write_outputs(
         println!("{}", cmp.to_markdown());
     }
     println!("wrote {}", args.out.display());
+    Ok(())
+}
+
+/// Writes K.mtx and M.mtx (Matrix Market) of the reduced system into `dir`.
+fn export_matrices(asm: &squeal::fem::Assembled, dir: &std::path::Path) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    write_matrix_market(&asm.k, &dir.join("K.mtx"))?;
+    write_matrix_market(&asm.m, &dir.join("M.mtx"))?;
+    println!("wrote {}/K.mtx and M.mtx", dir.display());
     Ok(())
 }

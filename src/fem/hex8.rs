@@ -86,45 +86,7 @@ fn shape(xi: [f64; 3]) -> ([f64; 8], [[f64; 3]; 8]) {
 /// Physical shape-function gradients and det J at a reference point; `None` if det J <= 0.
 fn gradients(x: &[P3; 8], xi: [f64; 3]) -> Option<([f64; 8], [[f64; 3]; 8], f64)> {
     let (n, dn) = shape(xi);
-    // J[i][j] = d x_j / d xi_i
-    let mut j = [[0.0; 3]; 3];
-    for a in 0..8 {
-        for i in 0..3 {
-            for k in 0..3 {
-                j[i][k] += dn[a][i] * x[a][k];
-            }
-        }
-    }
-    let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
-        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
-        + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
-    if det <= 0.0 || !det.is_finite() {
-        return None;
-    }
-    let inv = [
-        [
-            (j[1][1] * j[2][2] - j[1][2] * j[2][1]) / det,
-            (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det,
-            (j[0][1] * j[1][2] - j[0][2] * j[1][1]) / det,
-        ],
-        [
-            (j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det,
-            (j[0][0] * j[2][2] - j[0][2] * j[2][0]) / det,
-            (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det,
-        ],
-        [
-            (j[1][0] * j[2][1] - j[1][1] * j[2][0]) / det,
-            (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det,
-            (j[0][0] * j[1][1] - j[0][1] * j[1][0]) / det,
-        ],
-    ];
-    // dN/dx_k = sum_i (J^-1)[k][i] dN/dxi_i
-    let mut g = [[0.0; 3]; 8];
-    for a in 0..8 {
-        for k in 0..3 {
-            g[a][k] = (0..3).map(|i| inv[k][i] * dn[a][i]).sum();
-        }
-    }
+    let (g, det) = super::jacobian::physical_gradients(x, &dn)?;
     Some((n, g, det))
 }
 

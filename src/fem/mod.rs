@@ -4,6 +4,7 @@
 
 pub mod assembly;
 pub mod hex8;
+pub mod jacobian;
 pub mod tet10;
 
 pub use assembly::{assemble, assemble_volume, Assembled, Constraints, MassKind, Materials};

@@ -137,43 +137,7 @@ pub fn rule_degree5() -> Vec<([f64; 3], f64)> {
 /// Physical gradients and det J at `xi`; `None` if det J <= 0 (inverted or degenerate).
 fn gradients(x: &[P3; 10], xi: [f64; 3]) -> Option<([f64; 10], [[f64; 3]; 10], f64)> {
     let (n, dn) = shape(xi);
-    let mut j = [[0.0; 3]; 3];
-    for a in 0..10 {
-        for i in 0..3 {
-            for k in 0..3 {
-                j[i][k] += dn[a][i] * x[a][k];
-            }
-        }
-    }
-    let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
-        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
-        + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
-    if det <= 0.0 || !det.is_finite() {
-        return None;
-    }
-    let inv = [
-        [
-            (j[1][1] * j[2][2] - j[1][2] * j[2][1]) / det,
-            (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det,
-            (j[0][1] * j[1][2] - j[0][2] * j[1][1]) / det,
-        ],
-        [
-            (j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det,
-            (j[0][0] * j[2][2] - j[0][2] * j[2][0]) / det,
-            (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det,
-        ],
-        [
-            (j[1][0] * j[2][1] - j[1][1] * j[2][0]) / det,
-            (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det,
-            (j[0][0] * j[1][1] - j[0][1] * j[1][0]) / det,
-        ],
-    ];
-    let mut g = [[0.0; 3]; 10];
-    for a in 0..10 {
-        for k in 0..3 {
-            g[a][k] = (0..3).map(|i| inv[k][i] * dn[a][i]).sum();
-        }
-    }
+    let (g, det) = super::jacobian::physical_gradients(x, &dn)?;
     Some((n, g, det))
 }
 
@@ -267,17 +231,7 @@ pub fn volume(x: &[P3; 10]) -> f64 {
         .into_iter()
         .map(|(xi, w)| {
             let (_, dn) = shape(xi);
-            let mut j = [[0.0; 3]; 3];
-            for a in 0..10 {
-                for i in 0..3 {
-                    for k in 0..3 {
-                        j[i][k] += dn[a][i] * x[a][k];
-                    }
-                }
-            }
-            let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
-                - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
-                + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
+            let (_, det) = super::jacobian::jacobian(x, &dn);
             det * w
         })
         .sum()

@@ -1,0 +1,56 @@
+//! The isoparametric map shared by the solid elements: `J[i][k] = sum_a dN_a/dxi_i x_a,k`,
+//! `det J`, and physical gradients `dN_a/dx_k = sum_i (J^-1)[k][i] dN_a/dxi_i`.
+
+use crate::mesh::P3;
+
+/// Jacobian `J[i][k] = d x_k / d xi_i` of an `N`-node element and its determinant.
+pub fn jacobian<const N: usize>(x: &[P3; N], dn: &[[f64; 3]; N]) -> ([[f64; 3]; 3], f64) {
+    let mut j = [[0.0; 3]; 3];
+    for a in 0..N {
+        for i in 0..3 {
+            for k in 0..3 {
+                j[i][k] += dn[a][i] * x[a][k];
+            }
+        }
+    }
+    let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+        + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
+    (j, det)
+}
+
+/// Physical gradients of the shape functions and `det J`; `None` if `det J <= 0` (inverted or
+/// degenerate element) or not finite.
+pub fn physical_gradients<const N: usize>(
+    x: &[P3; N],
+    dn: &[[f64; 3]; N],
+) -> Option<([[f64; 3]; N], f64)> {
+    let (j, det) = jacobian(x, dn);
+    if det <= 0.0 || !det.is_finite() {
+        return None;
+    }
+    let inv = [
+        [
+            (j[1][1] * j[2][2] - j[1][2] * j[2][1]) / det,
+            (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det,
+            (j[0][1] * j[1][2] - j[0][2] * j[1][1]) / det,
+        ],
+        [
+            (j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det,
+            (j[0][0] * j[2][2] - j[0][2] * j[2][0]) / det,
+            (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det,
+        ],
+        [
+            (j[1][0] * j[2][1] - j[1][1] * j[2][0]) / det,
+            (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det,
+            (j[0][0] * j[1][1] - j[0][1] * j[1][0]) / det,
+        ],
+    ];
+    let mut g = [[0.0; 3]; N];
+    for a in 0..N {
+        for k in 0..3 {
+            g[a][k] = (0..3).map(|i| inv[k][i] * dn[a][i]).sum();
+        }
+    }
+    Some((g, det))
+}
