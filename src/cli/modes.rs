@@ -175,13 +175,14 @@ fn solve_band(args: &ModesArgs, asm: &Assembled) -> Result<ModalSolution> {
         },
     )?;
     println!(
-        "solved: {} modes below {} Hz in {:.2} s (factorisation {:.2} s, Krylov basis {}, {} runs)",
+        "solved: {} modes below {} Hz in {:.2} s (factorisation {:.2} s, Krylov basis {}, {} blocks of {})",
         sol.modes.len(),
         args.fmax_hz,
         sol.solve_seconds,
         sol.factor_seconds,
         sol.basis_size,
-        sol.runs
+        sol.blocks,
+        sol.block_size
     );
     if let Some(count) = sol.sturm_count {
         println!(

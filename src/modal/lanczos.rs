@@ -3,10 +3,11 @@
 use std::f64::consts::PI;
 use std::time::Instant;
 
+use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::SparseColMat;
-use faer::{Mat, Side};
+use faer::{Accum, Mat, MatMut, MatRef, Par, Side};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -26,6 +27,8 @@ pub struct ModalOptions {
     pub residual_tolerance: f64,
     /// Largest Krylov basis (vectors) before giving up.
     pub max_basis: usize,
+    /// Block size of the block Lanczos (columns per operator application).
+    pub block_size: usize,
     /// Check completeness with a Sturm count: the negative pivots of the LDLᵀ of
     /// `K - w_max² M` (Sylvester's law of inertia, M positive definite) are the eigenvalues
     /// below `fmax`, which must equal the modes found. A second (simplicial) factorisation.
@@ -42,6 +45,7 @@ impl Default for ModalOptions {
             // 1e-10..1e-13 on the meshes of the tests.
             residual_tolerance: 1e-8,
             max_basis: 4000,
+            block_size: 8,
             sturm_check: true,
         }
     }
@@ -72,18 +76,16 @@ pub struct ModalSolution {
     pub shift: f64,
     /// Final Krylov basis size.
     pub basis_size: usize,
-    /// Lanczos runs (1 + restarts).
-    pub runs: usize,
+    /// Block size.
+    pub block_size: usize,
+    /// Blocks applied (operator applications of `block_size` columns).
+    pub blocks: usize,
     /// Factorisation time (s).
     pub factor_seconds: f64,
     /// Total solve time incl. factorisation (s).
     pub solve_seconds: f64,
     /// Eigenvalues below `fmax` by the Sturm count (None: not checked).
     pub sturm_count: Option<usize>,
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.par_iter().zip(b.par_iter()).map(|(x, y)| x * y).sum()
 }
 
 /// Deterministic pseudo-random start vector (xorshift), so runs are reproducible.
@@ -105,15 +107,245 @@ struct ShiftInvert<'a> {
 }
 
 impl ShiftInvert<'_> {
-    /// `y = (K - sigma M)⁻¹ M x`.
-    fn apply(&self, x: &[f64]) -> Vec<f64> {
-        let mut y = vec![0.0; x.len()];
-        sym_lower_matvec(self.m, x, &mut y);
-        let n = y.len();
+    /// `W = (K - sigma M)⁻¹ M V` for a block of columns (column-major, `n` rows): the M
+    /// products column by column in parallel, then one multi-right-hand-side solve, which reads
+    /// the factor once for the whole block (the solve is memory-bound column by column).
+    fn apply_block(&self, v: &[f64], w: &mut [f64]) {
+        let n = self.m.nrows();
+        m_block(self.m, v, w);
+        let cols = w.len() / n;
         self.llt
-            .solve_in_place(faer::MatMut::from_column_major_slice_mut(&mut y, n, 1));
-        y
+            .solve_in_place(faer::MatMut::from_column_major_slice_mut(w, n, cols));
     }
+}
+
+/// `out = M v` for a block of columns (column-major, `n` rows each), columns in parallel.
+fn m_block(m: &SparseColMat<usize, f64>, v: &[f64], out: &mut [f64]) {
+    let n = m.nrows();
+    out.par_chunks_mut(n)
+        .zip(v.par_chunks(n))
+        .for_each(|(o, x)| sym_lower_matvec(m, x, o));
+}
+
+/// `C = Aᵀ B` (A: n x ka, B: n x kb, column-major slices), parallel dense product.
+fn at_b(a: &[f64], b: &[f64], n: usize) -> Mat<f64> {
+    let (ka, kb) = (a.len() / n, b.len() / n);
+    let mut c = Mat::<f64>::zeros(ka, kb);
+    matmul(
+        c.as_mut(),
+        Accum::Replace,
+        MatRef::from_column_major_slice(a, n, ka).transpose(),
+        MatRef::from_column_major_slice(b, n, kb),
+        1.0,
+        Par::rayon(0),
+    );
+    c
+}
+
+/// `B += alpha A C` (A: n x ka column-major, C: ka x kb, B: n x kb column-major).
+fn add_a_c(b: &mut [f64], a: &[f64], c: MatRef<'_, f64>, alpha: f64, n: usize) {
+    let (ka, kb) = (a.len() / n, b.len() / n);
+    matmul(
+        MatMut::from_column_major_slice_mut(b, n, kb),
+        Accum::Add,
+        MatRef::from_column_major_slice(a, n, ka),
+        c,
+        alpha,
+        Par::rayon(0),
+    );
+}
+
+/// Cholesky `G = Rᵀ R` of a small symmetric positive definite matrix (plain loops, `b <= 32`);
+/// `None` when a pivot falls below `rel_floor` times the largest diagonal entry (the block's
+/// columns are numerically dependent).
+fn small_cholesky_upper(g: &Mat<f64>, rel_floor: f64) -> Option<Mat<f64>> {
+    let b = g.nrows();
+    let scale = (0..b).map(|i| g[(i, i)]).fold(0.0f64, f64::max);
+    if scale.is_nan() || scale <= 0.0 || !scale.is_finite() {
+        return None;
+    }
+    let mut r = Mat::<f64>::zeros(b, b);
+    for j in 0..b {
+        let mut d = g[(j, j)];
+        for k in 0..j {
+            d -= r[(k, j)] * r[(k, j)];
+        }
+        if d.is_nan() || d <= rel_floor * scale {
+            return None;
+        }
+        let rjj = d.sqrt();
+        r[(j, j)] = rjj;
+        for i in j + 1..b {
+            let mut s = 0.5 * (g[(j, i)] + g[(i, j)]);
+            for k in 0..j {
+                s -= r[(k, j)] * r[(k, i)];
+            }
+            r[(j, i)] = s / rjj;
+        }
+    }
+    Some(r)
+}
+
+/// Inverse of a small upper triangular matrix.
+fn upper_inverse(r: &Mat<f64>) -> Mat<f64> {
+    let b = r.nrows();
+    let mut x = Mat::<f64>::zeros(b, b);
+    for j in 0..b {
+        x[(j, j)] = 1.0 / r[(j, j)];
+        for i in (0..j).rev() {
+            let mut s = 0.0;
+            for k in i + 1..=j {
+                s += r[(i, k)] * x[(k, j)];
+            }
+            x[(i, j)] = -s / r[(i, i)];
+        }
+    }
+    x
+}
+
+/// M-orthonormalises the block `w` (already M-orthogonal to the basis) in place by Cholesky QR,
+/// twice ("CholQR2": the second pass restores orthogonality to rounding). Returns `R` with
+/// `w_in = w_out R`, or `None` when the block is numerically rank deficient.
+fn m_cholqr2(m: &SparseColMat<usize, f64>, w: &mut [f64], n: usize) -> Option<Mat<f64>> {
+    let b = w.len() / n;
+    let mut r_total = Mat::<f64>::identity(b, b);
+    let mut mw = vec![0.0; w.len()];
+    for pass in 0..2 {
+        m_block(m, w, &mut mw);
+        let g = at_b(w, &mw, n);
+        // First pass: columns whose M-norm dropped below 1e-10 of the largest are dependent.
+        let r = small_cholesky_upper(&g, if pass == 0 { 1e-20 } else { 1e-30 })?;
+        let rinv = upper_inverse(&r);
+        let mut out = vec![0.0; w.len()];
+        add_a_c(&mut out, w, rinv.as_ref(), 1.0, n);
+        w.copy_from_slice(&out);
+        let mut next = Mat::<f64>::zeros(b, b);
+        matmul(
+            next.as_mut(),
+            Accum::Replace,
+            r.as_ref(),
+            r_total.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        r_total = next;
+    }
+    Some(r_total)
+}
+
+/// Completes one block Lanczos step: `w` (already M-orthogonalised against `q`, with
+/// coefficients `c`: `Op V = Q c + w`) is replaced by an M-orthonormal block `V_next`, orthogonal
+/// to `q`, with `Op V = Q c' + V_next B`; `c` is updated to `c'` and `B` returned.
+///
+/// Near convergence the residual block is ill-conditioned: some of its directions have
+/// converged (tiny norm), others not. Cholesky QR alone would square its condition number and
+/// amplify what rounding left along `Q`. So: SVQB (Stathopoulos & Wu 2002: scale the columns,
+/// eigen-decompose the Gram matrix, `W V Λ^{-1/2}`), with numerically null directions (singular
+/// value below 1e-13 of `scale`, the norm of `Op V`) replaced by random vectors (their rows of
+/// `B` are zero: the Krylov space is invariant there), then a second Gram-Schmidt against `q`
+/// and Cholesky QR, whose corrections enter `c` and `B`.
+fn next_block(
+    m: &SparseColMat<usize, f64>,
+    q: &[f64],
+    w: &mut [f64],
+    c: &mut Mat<f64>,
+    scale: f64,
+    n: usize,
+    seed: u64,
+) -> Result<Mat<f64>> {
+    let b = w.len() / n;
+    let mut mw = vec![0.0; w.len()];
+    m_block(m, w, &mut mw);
+    let g = at_b(w, &mw, n);
+    let null_col = (1e-13 * scale).powi(2);
+    let d: Vec<f64> = (0..b)
+        .map(|i| {
+            if g[(i, i)] > null_col {
+                1.0 / g[(i, i)].sqrt()
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let gs = Mat::<f64>::from_fn(b, b, |i, j| d[i] * 0.5 * (g[(i, j)] + g[(j, i)]) * d[j]);
+    let evd = gs
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|e| Error::Numerical(format!("block Gram matrix eigen solve failed: {e:?}")))?;
+    let lam = evd.S().column_vector();
+    let v = evd.U();
+    let lam_max = (0..b).map(|i| lam[i]).fold(0.0f64, f64::max);
+    // Transform T (W_new = W T) and B1 (W = W_new B1 on the kept directions).
+    let mut t = Mat::<f64>::zeros(b, b);
+    let mut b1 = Mat::<f64>::zeros(b, b);
+    let mut null = Vec::new();
+    for i in 0..b {
+        // Directions with a singular value below 1e-10 of the block's largest are replaced
+        // (their residual is below what the convergence test resolves; the Sturm count and the
+        // final residuals check the result).
+        if lam[i] > 1e-20 * lam_max && lam_max > 0.0 {
+            let s = lam[i].sqrt();
+            for r in 0..b {
+                t[(r, i)] = d[r] * v[(r, i)] / s;
+                // B1 = Λ^{1/2} Vᵀ D^{-1}
+                if d[r] > 0.0 {
+                    b1[(i, r)] = s * v[(r, i)] / d[r];
+                }
+            }
+        } else {
+            null.push(i);
+        }
+    }
+    let mut w1 = vec![0.0; w.len()];
+    add_a_c(&mut w1, w, t.as_ref(), 1.0, n);
+    for &i in &null {
+        let r = random_vector(n, seed.wrapping_mul(31).wrapping_add(i as u64));
+        w1[i * n..(i + 1) * n].copy_from_slice(&r);
+    }
+    // Second round: against Q, then Cholesky QR (the block is now well conditioned).
+    let c3 = m_orthogonalise(m, q, &mut w1, n);
+    let r2 = m_cholqr2(m, &mut w1, n).ok_or_else(|| {
+        Error::Numerical(
+            "block Lanczos: the Krylov basis cannot be extended (basis spans the space)".into(),
+        )
+    })?;
+    // Op V = Q c + W1 B1 = Q (c + c3 B1) + V_next (R2 B1).
+    matmul(
+        c.as_mut(),
+        Accum::Add,
+        c3.as_ref(),
+        b1.as_ref(),
+        1.0,
+        Par::Seq,
+    );
+    let mut beta = Mat::<f64>::zeros(b, b);
+    matmul(
+        beta.as_mut(),
+        Accum::Replace,
+        r2.as_ref(),
+        b1.as_ref(),
+        1.0,
+        Par::Seq,
+    );
+    w.copy_from_slice(&w1);
+    Ok(beta)
+}
+
+/// Two passes of block classical Gram-Schmidt of `w` against the M-orthonormal basis `q`
+/// (column-major, `n` rows) in the M inner product; returns the summed coefficients `Qᵀ M w`.
+fn m_orthogonalise(m: &SparseColMat<usize, f64>, q: &[f64], w: &mut [f64], n: usize) -> Mat<f64> {
+    let (k, b) = (q.len() / n, w.len() / n);
+    let mut total = Mat::<f64>::zeros(k, b);
+    if k == 0 {
+        return total;
+    }
+    let mut mw = vec![0.0; w.len()];
+    for _ in 0..2 {
+        m_block(m, w, &mut mw);
+        let c = at_b(q, &mw, n);
+        add_a_c(w, q, c.as_ref(), -1.0, n);
+        total += &c;
+    }
+    total
 }
 
 /// `A = K - sigma M` (lower triangles of both; same or different patterns).
@@ -139,34 +371,83 @@ fn shifted(
 }
 
 /// Number of eigenvalues of `K x = lambda M x` below `lambda_max` (K, M: lower triangles):
-/// the negative pivots of the LDLᵀ of `K - lambda_max M` (Sylvester's law of inertia), by the
-/// AMD-ordered simplicial factorisation of the axisymmetric solver.
+/// the negative pivots of the LDLᵀ of `K - lambda_max M` (Sylvester's law of inertia: `L D Lᵀ`
+/// is congruent to `K - lambda_max M`, whose negative eigenvalues are the eigenvalues of the
+/// pencil below `lambda_max` because M is positive definite). faer's supernodal LDLᵀ (AMD
+/// ordering, no pivoting, no regularisation): a zero pivot (lambda_max on an eigenvalue) is an
+/// error that names the remedy.
 pub fn sturm_count(
     k: &SparseColMat<usize, f64>,
     m: &SparseColMat<usize, f64>,
     lambda_max: f64,
 ) -> Result<usize> {
-    let n = k.nrows();
-    // (row <= column) entries of the upper triangle, K and M values side by side.
-    let mut t: Vec<(usize, usize, f64, f64)> = Vec::with_capacity(k.val().len() + m.val().len());
-    for (a, is_k) in [(k, true), (m, false)] {
-        let cp = a.symbolic().col_ptr();
-        let ri = a.symbolic().row_idx();
-        let v = a.val();
-        for j in 0..n {
-            for p in cp[j]..cp[j + 1] {
-                let (kv, mv) = if is_k { (v[p], 0.0) } else { (0.0, v[p]) };
-                // Stored lower (row >= column): the transposed pair is in the upper triangle.
-                t.push((j, ri[p], kv, mv));
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::sparse::linalg::cholesky::{
+        factorize_symbolic_cholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    };
+    let a = shifted(k, m, lambda_max)?;
+    let symbolic = factorize_symbolic_cholesky(
+        a.symbolic(),
+        Side::Lower,
+        SymmetricOrdering::Amd,
+        Default::default(),
+    )
+    .map_err(|e| Error::Numerical(format!("symbolic LDLᵀ for the Sturm count failed: {e:?}")))?;
+    let mut l_values = vec![0.0f64; symbolic.len_val()];
+    let par = Par::rayon(0);
+    let mut mem =
+        MemBuffer::new(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()));
+    symbolic
+        .factorize_numeric_ldlt(
+            &mut l_values,
+            a.as_ref(),
+            Side::Lower,
+            Default::default(),
+            par,
+            MemStack::new(&mut mem),
+            Default::default(),
+        )
+        .map_err(|e| {
+            Error::Numerical(format!(
+                "LDLᵀ of K - w_max² M for the Sturm count failed ({e:?}): the band edge lies on \
+                 an eigenvalue; move --fmax-hz slightly"
+            ))
+        })?;
+    // D is the diagonal of the unit lower factor's storage: the diagonal entry of each column
+    // (simplicial) or of each supernode's dense block (supernodal).
+    let mut negative = 0;
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Simplicial(s) => {
+            let cp = s.col_ptr();
+            let ri = s.row_idx();
+            for j in 0..s.ncols() {
+                for p in cp[j]..cp[j + 1] {
+                    if ri[p] == j && l_values[p] < 0.0 {
+                        negative += 1;
+                    }
+                }
+            }
+        }
+        SymbolicCholeskyRaw::Supernodal(s) => {
+            let begin = s.supernode_begin();
+            let end = s.supernode_end();
+            let val_ptr = s.col_ptr_for_val();
+            for sn in 0..s.n_supernodes() {
+                let cols = end[sn] - begin[sn];
+                let rows = (val_ptr[sn + 1] - val_ptr[sn]) / cols.max(1);
+                for c in 0..cols {
+                    if l_values[val_ptr[sn] + c * rows + c] < 0.0 {
+                        negative += 1;
+                    }
+                }
             }
         }
     }
-    let pencil = crate::axisym::eigen::PencilMatrices::from_triplets(n, &t)?;
-    Ok(pencil.factor(lambda_max)?.negative_pivots)
+    Ok(negative)
 }
 
 /// All modes with `f <= fmax_hz` of `K x = w² M x` (K, M: lower triangles, symmetric, M positive
-/// definite, K positive semi-definite).
+/// definite, K positive semi-definite), by block shift-invert Lanczos (module docs).
 pub fn solve(
     k: &SparseColMat<usize, f64>,
     m: &SparseColMat<usize, f64>,
@@ -181,10 +462,18 @@ pub fn solve(
             format!("{} must be a finite frequency > 0 Hz", opts.fmax_hz),
         ));
     }
+    if n == 0 {
+        return Err(Error::Numerical(
+            "the model has no free degree of freedom (everything is clamped)".into(),
+        ));
+    }
     let shift_hz = opts.shift_hz.unwrap_or((opts.fmax_hz / 20.0).max(10.0));
     let sigma = -(2.0 * PI * shift_hz).powi(2);
     let lambda_max = (2.0 * PI * opts.fmax_hz).powi(2);
     let theta_min = 1.0 / (lambda_max - sigma);
+    if n < DENSE_BELOW_DOFS {
+        return solve_dense(k, m, opts, sigma, lambda_max, started);
+    }
 
     let a = shifted(k, m, sigma)?;
     let symbolic = SymbolicLlt::try_new(a.symbolic(), Side::Lower)
@@ -199,190 +488,171 @@ pub fn solve(
     let factor_seconds = started.elapsed().as_secs_f64();
     let op = ShiftInvert { m, llt };
 
-    let m_norm = |v: &[f64]| -> f64 {
-        let mut mv = vec![0.0; v.len()];
-        sym_lower_matvec(m, v, &mut mv);
-        dot(v, &mv).max(0.0).sqrt()
-    };
-
-    // Basis Q (M-orthonormal), MQ (M q_j, kept to make Gram-Schmidt one pass of dot products),
-    // upper triangle of H = Qᵀ M Op Q.
-    let mut q: Vec<Vec<f64>> = Vec::new();
-    let mut mq: Vec<Vec<f64>> = Vec::new();
-    let mut h: Vec<Vec<f64>> = Vec::new(); // h[j][i] = q_iᵀ M Op q_j, i <= j
-                                           // Finished runs: (last index of the run, its residual vector beta q_next, kept
-                                           // M-orthogonal to the growing basis so that its norm bounds what is still unexplained).
-    let mut pending: Vec<(usize, Vec<f64>)> = Vec::new();
-    let max_basis = opts.max_basis.min(n);
-    // Relative Ritz residual estimate ||Op x - theta x||_M / theta for "converged": 1e-11 leaves
-    // two orders of margin to the 1e-8 residual bound after purification (measured).
+    // Block size: larger than any eigenvalue multiplicity expected (6 rigid modes come as
+    // 3 + 3 or 6 at one w² = 0; pairs for bodies of revolution), and a multi-column solve
+    // reads the factor once per block.
+    let b = opts.block_size.clamp(1, n);
+    // Whole blocks only.
+    let max_basis = (opts.max_basis.min(n) / b).max(1) * b;
+    // Relative Ritz residual ||Op x - theta x||_M / theta for "converged": 1e-11 leaves two
+    // orders of margin to the 1e-8 residual bound after purification (measured).
     let ritz_tol = 1e-11;
-    let mut runs = 0;
-    let mut previous_count = usize::MAX;
-    let mut first_run_len = 0;
 
-    // M-orthogonalise v against Q twice ("twice is enough"); returns the coefficients.
-    let orthogonalise = |v: &mut Vec<f64>, q: &[Vec<f64>], mq: &[Vec<f64>]| -> Vec<f64> {
-        let mut total = vec![0.0; q.len()];
-        for _ in 0..2 {
-            let c: Vec<f64> = mq.par_iter().map(|mqi| dot(mqi, v)).collect();
-            for (t, ci) in total.iter_mut().zip(&c) {
-                *t += ci;
-            }
-            v.par_iter_mut().enumerate().for_each(|(r, x)| {
-                let mut s = 0.0;
-                for (i, qi) in q.iter().enumerate() {
-                    s += c[i] * qi[r];
-                }
-                *x -= s;
-            });
+    // Basis Q (M-orthonormal, column-major n x k), columns of H = Qᵀ M Op Q (upper part: the
+    // coefficients of column c against columns 0..=end of its block).
+    let mut q: Vec<f64> = Vec::new();
+    let mut h_cols: Vec<Vec<f64>> = Vec::new();
+    let mut block = start_block(m, &q, n, b, 1)?;
+    let mut blocks = 0;
+    let mut next_check = 2;
+    let (theta, u, dim) = loop {
+        let j0 = q.len() / n;
+        q.extend_from_slice(&block);
+        let k_dim = j0 + b;
+        blocks += 1;
+        let mut w = vec![0.0; n * b];
+        op.apply_block(&block, &mut w);
+        // Scale of the block for the null-direction test: the largest column M-norm of Op V.
+        let scale = {
+            let mut mw = vec![0.0; n * b];
+            m_block(m, &w, &mut mw);
+            let g = at_b(&w, &mw, n);
+            (0..b).map(|i| g[(i, i)]).fold(0.0f64, f64::max).sqrt()
+        };
+        let mut c = m_orthogonalise(m, &q, &mut w, n);
+        // With the basis spanning the whole space the residual block is zero.
+        let beta = if k_dim >= n {
+            Mat::<f64>::zeros(b, b)
+        } else {
+            next_block(m, &q, &mut w, &mut c, scale, n, blocks as u64 + 7)?
+        };
+        for col in 0..b {
+            h_cols.push((0..k_dim).map(|i| c[(i, col)]).collect());
         }
-        total
+        let next_block = w;
+        let exhausted = k_dim + b > max_basis;
+        if blocks >= next_check || exhausted {
+            let (theta, u) = ritz(&h_cols, k_dim)?;
+            // est_i = ||B u_i(last block)||: the M-norm of Op x_i - theta_i x_i.
+            let est: Vec<f64> = (0..k_dim)
+                .map(|i| {
+                    (0..b)
+                        .map(|r| {
+                            (0..b)
+                                .map(|cc| beta[(r, cc)] * u[(j0 + cc, i)])
+                                .sum::<f64>()
+                                .powi(2)
+                        })
+                        .sum::<f64>()
+                        .sqrt()
+                })
+                .collect();
+            let conv = |i: usize| est[i] <= ritz_tol * theta[i].abs();
+            let all_in_band = (0..k_dim).filter(|&i| theta[i] >= theta_min).all(conv);
+            // A converged Ritz value past the band edge: the band's Ritz values have passed
+            // theirs (interlacing); the Sturm count below checks that none was missed.
+            let beyond = (0..k_dim).any(|i| theta[i] < theta_min && theta[i] > 0.0 && conv(i));
+            if std::env::var_os("SQUEAL_MODAL_TRACE").is_some() {
+                let n_band = (0..k_dim).filter(|&i| theta[i] >= theta_min).count();
+                let n_conv = (0..k_dim)
+                    .filter(|&i| theta[i] >= theta_min && conv(i))
+                    .count();
+                eprintln!(
+                    "trace: {:.2} s basis {k_dim}: {n_conv}/{n_band} in band converged",
+                    started.elapsed().as_secs_f64()
+                );
+            }
+            if all_in_band && beyond {
+                break (theta, u, k_dim);
+            }
+            if exhausted || k_dim >= n {
+                // No room for another block: accept a converged band (the Sturm count checks
+                // that it is complete).
+                if all_in_band {
+                    break (theta, u, k_dim);
+                }
+                return Err(Error::Numerical(format!(
+                    "block Lanczos did not converge for all modes below {} Hz within {} basis \
+                     vectors; lower --fmax-hz or coarsen the mesh",
+                    opts.fmax_hz, max_basis
+                )));
+            }
+            // Check again after ~15 % more basis (the dense eigen solve of H costs k³).
+            next_check = blocks + 1.max(blocks * 3 / 20);
+        }
+        block = next_block;
     };
 
-    let ritz = |h: &[Vec<f64>],
-                run_ends: &[(usize, f64)],
-                dim: usize|
-     -> Result<(Vec<f64>, Mat<f64>, Vec<f64>)> {
-        let hm = Mat::<f64>::from_fn(dim, dim, |i, j| if i <= j { h[j][i] } else { h[i][j] });
-        let evd = hm
-            .self_adjoint_eigen(Side::Upper)
-            .map_err(|e| Error::Numerical(format!("projected eigen problem failed: {e:?}")))?;
-        let s = evd.S().column_vector();
-        let u = evd.U().to_owned();
-        let theta: Vec<f64> = (0..dim).map(|i| s[i]).collect();
-        let est: Vec<f64> = (0..dim)
-            .map(|i| {
-                run_ends
-                    .iter()
-                    .filter(|(end, _)| *end < dim)
-                    .map(|&(end, beta)| (beta * u[(end, i)]).abs())
-                    .sum::<f64>()
-            })
-            .collect();
-        Ok((theta, u, est))
-    };
-
-    loop {
-        if q.len() >= max_basis {
-            break;
-        }
-        runs += 1;
-        let run_start = q.len();
-        let mut v = random_vector(n, runs as u64);
-        orthogonalise(&mut v, &q, &mq);
-        let norm = m_norm(&v);
-        if norm < 1e-8 {
-            break; // basis spans the space
-        }
-        v.iter_mut().for_each(|x| *x /= norm);
-        let mut next_check = run_start + 20.max(first_run_len * 3 / 5);
-        let converged_run;
-        let last_count;
-        loop {
-            let j = q.len();
-            let mut mv = vec![0.0; n];
-            sym_lower_matvec(m, &v, &mut mv);
-            for (_, r) in pending.iter_mut() {
-                let c = dot(&mv, r);
-                r.par_iter_mut()
-                    .zip(v.par_iter())
-                    .for_each(|(a, b)| *a -= c * b);
-            }
-            q.push(std::mem::take(&mut v));
-            mq.push(mv);
-            let mut z = op.apply(&q[j]);
-            let c = orthogonalise(&mut z, &q, &mq);
-            h.push(c);
-            let beta = m_norm(&z);
-            let exhausted = q.len() >= max_basis || beta <= 1e-13 * h[j][j].abs().max(1e-300);
-            if q.len() >= next_check || exhausted {
-                let dim = q.len();
-                let mut ends: Vec<(usize, f64)> =
-                    pending.iter().map(|(e, r)| (*e, m_norm(r))).collect();
-                ends.push((dim - 1, beta));
-                let (theta, _, est) = ritz(&h, &ends, dim)?;
-                let conv = |i: usize| est[i] <= ritz_tol * theta[i].abs();
-                let in_band: Vec<usize> = (0..dim).filter(|&i| theta[i] >= theta_min).collect();
-                let all_conv = in_band.iter().all(|&i| conv(i));
-                let beyond = (0..dim).any(|i| theta[i] < theta_min && theta[i] > 0.0 && conv(i));
-                if (all_conv && beyond) || exhausted {
-                    last_count = in_band.len();
-                    converged_run = all_conv;
-                    pending.push((dim - 1, z));
-                    break;
-                }
-                next_check = dim + 10.max(dim / 5);
-            }
-            v = z.into_iter().map(|x| x / beta).collect();
-        }
-        if runs == 1 {
-            first_run_len = q.len();
-        }
-        if !converged_run && q.len() >= max_basis {
-            return Err(Error::Numerical(format!(
-                "Lanczos did not converge for all modes below {} Hz within {} basis vectors; \
-                 lower --fmax-hz or coarsen the mesh",
-                opts.fmax_hz, max_basis
-            )));
-        }
-        if last_count == previous_count || q.len() >= n {
-            break;
-        }
-        previous_count = last_count;
-    }
-
-    // Ritz vectors in the band, purified, Rayleigh quotients, residuals.
-    let dim = q.len();
-    let (theta, u, _) = ritz(&h, &[], dim)?;
+    // Ritz vectors in the band, purified by one more application of Op (damps what rounding
+    // left along high modes), Rayleigh quotients, residuals.
     let wanted: Vec<usize> = (0..dim)
         .filter(|&i| theta[i] >= theta_min * (1.0 - 1e-9))
         .collect();
-    let mut modes: Vec<Mode> = wanted
-        .par_iter()
-        .map(|&i| {
-            let mut x = vec![0.0; n];
-            for (jj, qj) in q.iter().enumerate() {
-                let c = u[(jj, i)];
-                for r in 0..n {
-                    x[r] += c * qj[r];
-                }
-            }
-            x
-        })
-        .collect::<Vec<_>>()
-        .into_iter()
-        .map(|x| {
-            let y = op.apply(&x);
-            let nrm = m_norm(&y);
-            let y: Vec<f64> = y.into_iter().map(|v| v / nrm).collect();
-            let mut ky = vec![0.0; n];
-            let mut my = vec![0.0; n];
-            sym_lower_matvec(k, &y, &mut ky);
-            sym_lower_matvec(m, &y, &mut my);
-            let lambda = dot(&y, &ky) / dot(&y, &my);
-            let r: f64 = ky
+    let n_wanted = wanted.len();
+    let u_wanted = Mat::<f64>::from_fn(dim, n_wanted, |r, c| u[(r, wanted[c])]);
+    let mut x = vec![0.0; n * n_wanted];
+    add_a_c(&mut x, &q[..n * dim], u_wanted.as_ref(), 1.0, n);
+    drop(q);
+    let mut y = vec![0.0; n * n_wanted];
+    if n_wanted > 0 {
+        op.apply_block(&x, &mut y);
+    }
+    drop(x);
+    let rigid_scale = lambda_max.max(sigma.abs());
+    let mut ky = vec![0.0; y.len()];
+    let mut my = vec![0.0; y.len()];
+    m_block(k, &y, &mut ky);
+    m_block(m, &y, &mut my);
+    let mut modes: Vec<Mode> = (0..n_wanted)
+        .into_par_iter()
+        .map(|c| {
+            let (yc, kyc, myc) = (
+                &y[c * n..(c + 1) * n],
+                &ky[c * n..(c + 1) * n],
+                &my[c * n..(c + 1) * n],
+            );
+            let ymy: f64 = yc.iter().zip(myc).map(|(a, b)| a * b).sum();
+            let yky: f64 = yc.iter().zip(kyc).map(|(a, b)| a * b).sum();
+            let nrm = ymy.max(0.0).sqrt();
+            let lambda = yky / ymy;
+            let r: f64 = kyc
                 .iter()
-                .zip(&my)
+                .zip(myc)
                 .map(|(a, b)| (a - lambda * b).powi(2))
                 .sum::<f64>()
                 .sqrt();
+            let ky_norm = kyc.iter().map(|a| a * a).sum::<f64>().sqrt();
+            let my_norm = myc.iter().map(|a| a * a).sum::<f64>().sqrt();
             let freq = lambda.signum() * lambda.abs().sqrt() / (2.0 * PI);
             let rigid = freq.abs() < opts.rigid_below_hz;
-            // ||K x|| for flexible modes; for rigid and near-rigid modes (w² below |sigma|)
-            // ||K x|| is itself round-off, so the scale is the shifted operator's, |sigma| ||M x||.
-            let denom = dot(&ky, &ky).sqrt().max(sigma.abs() * dot(&my, &my).sqrt());
+            // ||K x|| for flexible modes. For rigid modes ||K x|| is itself round-off, so the
+            // scale is the band's stiffness, max(w_max², |sigma|) ||M x||: a backward error of
+            // the size the band's modes are held to.
+            let denom = if rigid {
+                ky_norm.max(rigid_scale * my_norm)
+            } else {
+                ky_norm
+            };
             Mode {
                 frequency_hz: freq,
                 eigenvalue: lambda,
                 residual: r / denom,
                 rigid,
-                vector: y,
+                vector: yc.iter().map(|v| v / nrm).collect(),
             }
         })
         .filter(|mode| mode.eigenvalue <= lambda_max)
         .collect();
     modes.sort_by(|a, b| a.eigenvalue.total_cmp(&b.eigenvalue));
+    let trace = std::env::var_os("SQUEAL_MODAL_TRACE").is_some();
+    if trace {
+        for md in &modes {
+            eprintln!(
+                "trace: {:.4} Hz residual {:.2e}",
+                md.frequency_hz, md.residual
+            );
+        }
+    }
     if let Some(bad) = modes
         .iter()
         .find(|m| m.residual.is_nan() || m.residual >= opts.residual_tolerance)
@@ -393,12 +663,25 @@ pub fn solve(
             bad.frequency_hz, bad.residual, opts.residual_tolerance
         )));
     }
+    if trace {
+        eprintln!(
+            "trace: lanczos+purify done at {:.2} s (basis {dim}, {blocks} blocks)",
+            started.elapsed().as_secs_f64()
+        );
+    }
     let sturm_count = if opts.sturm_check {
         let count = sturm_count(k, m, lambda_max)?;
+        if trace {
+            eprintln!(
+                "trace: sturm done at {:.2} s",
+                started.elapsed().as_secs_f64()
+            );
+        }
         if count != modes.len() {
             return Err(Error::Numerical(format!(
                 "the Sturm count finds {count} eigenvalues below {} Hz but Lanczos returned {} \
-                 modes (basis {dim}, {runs} runs): raise the basis limit or split the band",
+                 modes (basis {dim}, {blocks} blocks of {b}): raise the basis limit or split the \
+                 band",
                 opts.fmax_hz,
                 modes.len()
             )));
@@ -411,9 +694,140 @@ pub fn solve(
         modes,
         shift: sigma,
         basis_size: dim,
-        runs,
+        block_size: b,
+        blocks,
         factor_seconds,
         solve_seconds: started.elapsed().as_secs_f64(),
         sturm_count,
     })
+}
+
+/// Below this many dofs the band is taken from a dense solve (a Krylov basis of whole blocks
+/// would span most of the space anyway).
+const DENSE_BELOW_DOFS: usize = 200;
+
+/// Dense reference path for small models: `L⁻¹ K L⁻ᵀ z = w² z` with `M = L Lᵀ`.
+fn solve_dense(
+    k: &SparseColMat<usize, f64>,
+    m: &SparseColMat<usize, f64>,
+    opts: &ModalOptions,
+    sigma: f64,
+    lambda_max: f64,
+    started: Instant,
+) -> Result<ModalSolution> {
+    let n = k.nrows();
+    let dense = |s: &SparseColMat<usize, f64>| {
+        let mut d = Mat::<f64>::zeros(n, n);
+        let cp = s.symbolic().col_ptr();
+        let ri = s.symbolic().row_idx();
+        for j in 0..n {
+            for p in cp[j]..cp[j + 1] {
+                d[(ri[p], j)] = s.val()[p];
+                d[(j, ri[p])] = s.val()[p];
+            }
+        }
+        d
+    };
+    let (kd, md) = (dense(k), dense(m));
+    let l = md
+        .llt(Side::Lower)
+        .map_err(|e| Error::Numerical(format!("M is not positive definite ({e:?})")))?
+        .L()
+        .to_owned();
+    // L⁻¹ by forward substitution (n < 200).
+    let mut linv = Mat::<f64>::identity(n, n);
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+        l.as_ref(),
+        linv.as_mut(),
+        Par::Seq,
+    );
+    let c = &linv * &kd * linv.transpose();
+    let cs = Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (c[(i, j)] + c[(j, i)]));
+    let evd = cs
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|e| Error::Numerical(format!("dense eigen solve failed: {e:?}")))?;
+    let z = linv.transpose() * evd.U();
+    let rigid_scale = lambda_max.max(sigma.abs());
+    let mut modes = Vec::new();
+    for i in 0..n {
+        let lambda = evd.S().column_vector()[i];
+        if lambda > lambda_max {
+            break;
+        }
+        let x: Vec<f64> = (0..n).map(|r| z[(r, i)]).collect();
+        let mut kx = vec![0.0; n];
+        let mut mx = vec![0.0; n];
+        sym_lower_matvec(k, &x, &mut kx);
+        sym_lower_matvec(m, &x, &mut mx);
+        let r = kx
+            .iter()
+            .zip(&mx)
+            .map(|(a, b)| (a - lambda * b).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let kn = kx.iter().map(|a| a * a).sum::<f64>().sqrt();
+        let mn = mx.iter().map(|a| a * a).sum::<f64>().sqrt();
+        let freq = lambda.signum() * lambda.abs().sqrt() / (2.0 * PI);
+        let rigid = freq.abs() < opts.rigid_below_hz;
+        let denom = if rigid { kn.max(rigid_scale * mn) } else { kn };
+        modes.push(Mode {
+            frequency_hz: freq,
+            eigenvalue: lambda,
+            residual: r / denom,
+            rigid,
+            vector: x,
+        });
+    }
+    let count = modes.len();
+    Ok(ModalSolution {
+        modes,
+        shift: sigma,
+        basis_size: n,
+        block_size: 0,
+        blocks: 0,
+        factor_seconds: 0.0,
+        solve_seconds: started.elapsed().as_secs_f64(),
+        sturm_count: opts.sturm_check.then_some(count),
+    })
+}
+
+/// A random block (seeded) M-orthogonal to `q` and M-orthonormal.
+fn start_block(
+    m: &SparseColMat<usize, f64>,
+    q: &[f64],
+    n: usize,
+    b: usize,
+    seed: u64,
+) -> Result<Vec<f64>> {
+    for attempt in 0..4 {
+        let mut w = random_vector(n * b, seed * 16 + attempt);
+        m_orthogonalise(m, q, &mut w, n);
+        if m_cholqr2(m, &mut w, n).is_some() {
+            return Ok(w);
+        }
+    }
+    Err(Error::Numerical(
+        "could not extend the Krylov basis: the basis spans the whole space".into(),
+    ))
+}
+
+/// Ritz values (ascending) and vectors of the projected matrix `H` (`dim` x `dim`, from the
+/// upper parts of its columns).
+fn ritz(h_cols: &[Vec<f64>], dim: usize) -> Result<(Vec<f64>, Mat<f64>)> {
+    let hm = Mat::<f64>::from_fn(
+        dim,
+        dim,
+        |i, j| {
+            if i <= j {
+                h_cols[j][i]
+            } else {
+                h_cols[i][j]
+            }
+        },
+    );
+    let evd = hm
+        .self_adjoint_eigen(Side::Upper)
+        .map_err(|e| Error::Numerical(format!("projected eigen problem failed: {e:?}")))?;
+    let s = evd.S().column_vector();
+    Ok(((0..dim).map(|i| s[i]).collect(), evd.U().to_owned()))
 }
