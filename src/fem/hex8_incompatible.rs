@@ -52,6 +52,11 @@ use crate::mesh::P3;
 /// Number of condensed internal dofs: 3 bubbles x 3 components.
 const INTERNAL: usize = 9;
 
+/// `K_uα`: rows are the 24 nodal dofs, columns the 9 internal ones.
+type CouplingBlock = [[f64; INTERNAL]; 24];
+/// `K_αα`.
+type InternalBlock = [[f64; INTERNAL]; INTERNAL];
+
 /// Stiffness (incompatible modes, condensed) and mass (consistent or row-sum lumped, as the
 /// standard hex8) of one element; `None` for a non-positive Jacobian determinant at a Gauss
 /// point or at the centre (inverted or degenerate element).
@@ -68,10 +73,7 @@ pub fn element_matrices(
 
 /// The coupling `K_uα` (24x9) and internal `K_αα` (9x9) blocks, 2x2x2 Gauss, with Taylor's
 /// centre-Jacobian bubble gradients (module docs).
-fn internal_blocks(
-    x: &[P3; 8],
-    mat: &ElasticMaterial,
-) -> Option<([[f64; INTERNAL]; 24], [[f64; INTERNAL]; INTERNAL])> {
+fn internal_blocks(x: &[P3; 8], mat: &ElasticMaterial) -> Option<(CouplingBlock, InternalBlock)> {
     let d = mat.d_matrix();
     let (_, dn_centre) = hex8::shape([0.0; 3]);
     let (j0, det0) = jacobian::jacobian(x, &dn_centre);
@@ -80,8 +82,8 @@ fn internal_blocks(
     }
     let j0_inv = jacobian::inverse(&j0, det0);
     let gauss = 1.0 / 3f64.sqrt();
-    let mut k_ua = [[0.0; INTERNAL]; 24];
-    let mut k_aa = [[0.0; INTERNAL]; INTERNAL];
+    let mut k_ua: CouplingBlock = [[0.0; INTERNAL]; 24];
+    let mut k_aa: InternalBlock = [[0.0; INTERNAL]; INTERNAL];
     for &a in &[-gauss, gauss] {
         for &b in &[-gauss, gauss] {
             for &c in &[-gauss, gauss] {
@@ -153,11 +155,7 @@ fn bubble_b_matrix(g: &[[f64; 3]; 3]) -> [[f64; INTERNAL]; 6] {
 
 /// `k ← k − K_uα K_αα⁻¹ K_αu` (static condensation); `None` if `K_αα` is not positive definite
 /// (only for a degenerate element: the nine bubble strain fields are independent otherwise).
-fn condense(
-    k: &mut [[f64; 24]; 24],
-    k_ua: &[[f64; INTERNAL]; 24],
-    k_aa: &[[f64; INTERNAL]; INTERNAL],
-) -> Option<()> {
+fn condense(k: &mut [[f64; 24]; 24], k_ua: &CouplingBlock, k_aa: &InternalBlock) -> Option<()> {
     let l = cholesky(k_aa)?;
     // X = K_αα⁻¹ K_αu, one column (element dof) at a time: forward then back substitution.
     let mut x = [[0.0; 24]; INTERNAL];
@@ -199,7 +197,7 @@ fn condense(
 
 /// Lower Cholesky factor `L` (`A = L Lᵀ`) of a symmetric 9x9 matrix; `None` if a pivot is not
 /// positive relative to the largest diagonal entry (not positive definite to working precision).
-fn cholesky(a: &[[f64; INTERNAL]; INTERNAL]) -> Option<[[f64; INTERNAL]; INTERNAL]> {
+fn cholesky(a: &InternalBlock) -> Option<InternalBlock> {
     let scale = (0..INTERNAL).map(|i| a[i][i].abs()).fold(0.0, f64::max);
     if !(scale.is_finite() && scale > 0.0) {
         return None;
