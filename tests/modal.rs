@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 
 use faer::{Mat, Side};
 use squeal::fem::hex8::{element_matrices, ElasticMaterial};
-use squeal::fem::{assemble, Constraints, MassKind, Materials};
+use squeal::fem::{assemble, Constraints, Hex8Kind, MassKind, Materials};
 use squeal::identify::ModeFamily;
 use squeal::mesh::cuboid;
 use squeal::modal::classify::{classify_shape, nodal_weights};
@@ -106,6 +106,7 @@ fn patch_test_linear_field_has_no_interior_force() {
         &steel_nu(0.3),
         &Constraints::default(),
         MassKind::Consistent,
+        Hex8Kind::Standard,
     )
     .unwrap();
     let grad = [
@@ -145,6 +146,7 @@ fn bar_axial_frequencies(n: usize) -> Vec<f64> {
             ties: false,
         },
         MassKind::Consistent,
+        Hex8Kind::Standard,
     )
     .unwrap();
     let sol = solve(
@@ -205,6 +207,7 @@ fn free_cube_has_six_rigid_modes() {
         &steel_nu(0.3),
         &Constraints::default(),
         MassKind::Consistent,
+        Hex8Kind::Standard,
     )
     .unwrap();
     let sol = solve(
@@ -237,6 +240,7 @@ fn solver_matches_dense_reference() {
             ties: false,
         },
         MassKind::Consistent,
+        Hex8Kind::Standard,
     )
     .unwrap();
     let n = a.n_reduced;
@@ -322,6 +326,7 @@ fn bad_band_and_bad_clamp_set_are_errors() {
             ties: false,
         },
         MassKind::Consistent,
+        Hex8Kind::Standard,
     )
     .unwrap_err();
     assert!(err.to_string().contains("hub_bore"), "{err}");
@@ -330,6 +335,7 @@ fn bad_band_and_bad_clamp_set_are_errors() {
         &steel_nu(0.3),
         &Constraints::default(),
         MassKind::Consistent,
+        Hex8Kind::Standard,
     )
     .unwrap();
     assert!(solve(

@@ -8,7 +8,9 @@ use std::process::Command;
 
 use squeal::fem::assembly::{read_matrix_market, write_matrix_market};
 use squeal::fem::tet10::{self, element_matrices, rule_degree5, straight};
-use squeal::fem::{assemble, assemble_volume, Constraints, ElasticMaterial, MassKind, Materials};
+use squeal::fem::{
+    assemble, assemble_volume, Constraints, ElasticMaterial, Hex8Kind, MassKind, Materials,
+};
 use squeal::mesh::cuboid;
 use squeal::mesh::volume::{self, VolumeElement, VolumeMesh};
 use squeal::modal::{solve, ModalOptions};
@@ -233,6 +235,7 @@ fn tet10_and_hex8_agree_on_a_free_block() {
         &steel(),
         &Constraints::default(),
         MassKind::Consistent,
+        Hex8Kind::Standard,
     )
     .unwrap();
     let ft = flexible(&a.k, &a.m, fmax);
@@ -243,6 +246,7 @@ fn tet10_and_hex8_agree_on_a_free_block() {
         &steel(),
         &Constraints::default(),
         MassKind::Consistent,
+        Hex8Kind::Standard,
     )
     .unwrap();
     let fc = flexible(&hc.k, &hc.m, fmax * 1.2);
@@ -251,6 +255,7 @@ fn tet10_and_hex8_agree_on_a_free_block() {
         &steel(),
         &Constraints::default(),
         MassKind::Consistent,
+        Hex8Kind::Standard,
     )
     .unwrap();
     let ff = flexible(&hf.k, &hf.m, fmax);
@@ -437,6 +442,7 @@ fn matrix_market_round_trip_is_exact() {
             ties: false,
         },
         MassKind::Consistent,
+        Hex8Kind::Standard,
     )
     .unwrap();
     for (mat, name) in [(&a.k, "K.mtx"), (&a.m, "M.mtx")] {

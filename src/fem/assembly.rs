@@ -17,7 +17,7 @@ use std::collections::{BTreeMap, HashMap};
 use faer::sparse::{SparseColMat, Triplet};
 use rayon::prelude::*;
 
-use super::hex8::{element_matrices, ElasticMaterial};
+use super::hex8::{element_matrices_of_kind, ElasticMaterial, Hex8Kind};
 use super::tet10;
 use crate::mesh::volume::{VolumeElement, VolumeMesh};
 use crate::mesh::{Mesh, TiedInterface};
@@ -170,12 +170,14 @@ fn expansions(
     Ok((exp, count))
 }
 
-/// Assemble reduced K and M (lower triangles) of `mesh` with `materials` under `constraints`.
+/// Assemble reduced K and M (lower triangles) of `mesh` with `materials` under `constraints`,
+/// with the `hex8` element stiffness.
 pub fn assemble(
     mesh: &Mesh,
     materials: &Materials,
     constraints: &Constraints,
     mass: MassKind,
+    hex8: Hex8Kind,
 ) -> Result<Assembled> {
     check_materials(&mesh.material, materials)?;
     let (expansion, n_reduced) =
@@ -188,7 +190,7 @@ pub fn assemble(
         |e, buf: &mut ElementBuffer| {
             let x = mesh.element_coords(e);
             let mat = &materials[&mesh.material[e]];
-            let em = element_matrices(&x, mat, lumped).ok_or_else(|| inverted(e))?;
+            let em = element_matrices_of_kind(hex8, &x, mat, lumped).ok_or_else(|| inverted(e))?;
             buf.set(
                 &mesh.elements[e],
                 em.k.iter().flatten(),
@@ -206,12 +208,14 @@ pub fn assemble(
 }
 
 /// Assemble reduced K and M (lower triangles) of a mixed hex8 / tet10 [`VolumeMesh`]
-/// (`constraints.ties` is ignored: a volume mesh has no tied interfaces).
+/// (`constraints.ties` is ignored: a volume mesh has no tied interfaces), with the `hex8`
+/// element stiffness for the hexahedra (tet10 elements are unaffected).
 pub fn assemble_volume(
     mesh: &VolumeMesh,
     materials: &Materials,
     constraints: &Constraints,
     mass: MassKind,
+    hex8: Hex8Kind,
 ) -> Result<Assembled> {
     check_materials(&mesh.material, materials)?;
     let (expansion, n_reduced) = expansions(mesh.nodes.len(), &mesh.node_sets, &[], constraints)?;
@@ -225,7 +229,8 @@ pub fn assemble_volume(
             match &mesh.elements[e] {
                 VolumeElement::Hex8(c) => {
                     let x = c.map(|n| mesh.nodes[n]);
-                    let em = element_matrices(&x, mat, lumped).ok_or_else(|| inverted(e))?;
+                    let em = element_matrices_of_kind(hex8, &x, mat, lumped)
+                        .ok_or_else(|| inverted(e))?;
                     buf.set(c, em.k.iter().flatten(), em.m.iter().flatten());
                 }
                 VolumeElement::Tet10(c) => {

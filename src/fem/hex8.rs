@@ -55,6 +55,30 @@ impl ElasticMaterial {
     }
 }
 
+/// Which hexahedron stiffness the modal assembly uses (the mass is the same for both).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Hex8Kind {
+    /// The trilinear (conforming) element of this module: exact for linear fields, but it locks
+    /// in bending (parasitic shear) when a bent plate or beam is only one or two elements thick.
+    Standard,
+    /// Wilson–Taylor incompatible modes ("QM6"), [`super::hex8_incompatible`]: three statically
+    /// condensed bubble modes per displacement component represent the quadratic bending field.
+    Incompatible,
+}
+
+/// Stiffness and mass of one element of the given kind; `None` as for [`element_matrices`].
+pub fn element_matrices_of_kind(
+    kind: Hex8Kind,
+    x: &[P3; 8],
+    mat: &ElasticMaterial,
+    lumped: bool,
+) -> Option<ElementMatrices> {
+    match kind {
+        Hex8Kind::Standard => element_matrices(x, mat, lumped),
+        Hex8Kind::Incompatible => super::hex8_incompatible::element_matrices(x, mat, lumped),
+    }
+}
+
 /// Element stiffness and mass (24x24, row-major).
 #[derive(Clone, Debug)]
 pub struct ElementMatrices {
@@ -67,7 +91,7 @@ pub struct ElementMatrices {
 }
 
 /// Shape functions and their reference derivatives at a point.
-fn shape(xi: [f64; 3]) -> ([f64; 8], [[f64; 3]; 8]) {
+pub(crate) fn shape(xi: [f64; 3]) -> ([f64; 8], [[f64; 3]; 8]) {
     let mut n = [0.0; 8];
     let mut dn = [[0.0; 3]; 8];
     for a in 0..8 {
@@ -84,7 +108,7 @@ fn shape(xi: [f64; 3]) -> ([f64; 8], [[f64; 3]; 8]) {
 }
 
 /// Physical shape-function gradients and det J at a reference point; `None` if det J <= 0.
-fn gradients(x: &[P3; 8], xi: [f64; 3]) -> Option<([f64; 8], [[f64; 3]; 8], f64)> {
+pub(crate) fn gradients(x: &[P3; 8], xi: [f64; 3]) -> Option<([f64; 8], [[f64; 3]; 8], f64)> {
     let (n, dn) = shape(xi);
     let (g, det) = super::jacobian::physical_gradients(x, &dn)?;
     Some((n, g, det))

@@ -29,7 +29,19 @@ pub fn physical_gradients<const N: usize>(
     if det <= 0.0 || !det.is_finite() {
         return None;
     }
-    let inv = [
+    let inv = inverse(&j, det);
+    let mut g = [[0.0; 3]; N];
+    for a in 0..N {
+        for k in 0..3 {
+            g[a][k] = (0..3).map(|i| inv[k][i] * dn[a][i]).sum();
+        }
+    }
+    Some((g, det))
+}
+
+/// The inverse of a 3x3 matrix with (non-zero) determinant `det`, by cofactors.
+pub fn inverse(j: &[[f64; 3]; 3], det: f64) -> [[f64; 3]; 3] {
+    [
         [
             (j[1][1] * j[2][2] - j[1][2] * j[2][1]) / det,
             (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det,
@@ -45,12 +57,5 @@ pub fn physical_gradients<const N: usize>(
             (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det,
             (j[0][0] * j[1][1] - j[0][1] * j[1][0]) / det,
         ],
-    ];
-    let mut g = [[0.0; 3]; N];
-    for a in 0..N {
-        for k in 0..3 {
-            g[a][k] = (0..3).map(|i| inv[k][i] * dn[a][i]).sum();
-        }
-    }
-    Some((g, det))
+    ]
 }

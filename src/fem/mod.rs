@@ -1,11 +1,12 @@
-//! Finite elements for modal analysis: the 8-node hexahedron and the 10-node tetrahedron
-//! (stiffness, consistent and lumped mass), materials per element id, and parallel sparse assembly with constraint
-//! elimination (clamped node sets, tied interfaces).
+//! Finite elements for modal analysis: the 8-node hexahedron (standard or incompatible modes) and
+//! the 10-node tetrahedron (stiffness, consistent and lumped mass), materials per element id, and
+//! parallel sparse assembly with constraint elimination (clamped node sets, tied interfaces).
 
 pub mod assembly;
 pub mod hex8;
+pub mod hex8_incompatible;
 pub mod jacobian;
 pub mod tet10;
 
 pub use assembly::{assemble, assemble_volume, Assembled, Constraints, MassKind, Materials};
-pub use hex8::{ElasticMaterial, ElementMatrices};
+pub use hex8::{ElasticMaterial, ElementMatrices, Hex8Kind};
