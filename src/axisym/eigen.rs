@@ -36,6 +36,10 @@ pub struct PencilMatrices {
     pat: std::sync::Arc<Pattern>,
     k_val: Vec<f64>,
     m_val: Vec<f64>,
+    /// Both triangles row by row (pattern `full_ptr` / `full_col` of [`Pattern`]), for
+    /// gather-only products: y_r = sum_c A_rc x_c without scattered writes.
+    k_full: Vec<f64>,
+    m_full: Vec<f64>,
 }
 
 /// The value-independent part of a pencil: order, upper-triangle pattern, symbolic factor and
@@ -50,6 +54,11 @@ pub struct Pattern {
     /// Value slot of each input pair (in the order given to [`Pattern::new`]).
     slot: Vec<usize>,
     symbolic: simplicial::SymbolicSimplicialCholesky<usize>,
+    /// Both triangles as rows: row pointers, column of each entry and the stored (upper)
+    /// entry it copies.
+    full_ptr: Vec<usize>,
+    full_col: Vec<usize>,
+    full_src: Vec<usize>,
 }
 
 impl Pattern {
@@ -96,6 +105,37 @@ impl Pattern {
             )
             .map_err(|e| faer_err("symbolic factorisation", e))?
         };
+        // Both triangles, row by row.
+        let mut counts = vec![0usize; n + 1];
+        for j in 0..n {
+            for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+                counts[i + 1] += 1;
+                if i != j {
+                    counts[j + 1] += 1;
+                }
+            }
+        }
+        for r in 0..n {
+            counts[r + 1] += counts[r];
+        }
+        let full_ptr = counts.clone();
+        let mut fill = counts;
+        let total = full_ptr[n];
+        let mut full_col = vec![0usize; total];
+        let mut full_src = vec![0usize; total];
+        for j in 0..n {
+            for p in col_ptr[j]..col_ptr[j + 1] {
+                let i = row_idx[p];
+                full_col[fill[i]] = j;
+                full_src[fill[i]] = p;
+                fill[i] += 1;
+                if i != j {
+                    full_col[fill[j]] = i;
+                    full_src[fill[j]] = p;
+                    fill[j] += 1;
+                }
+            }
+        }
         Ok(Pattern {
             n,
             perm_inv,
@@ -103,6 +143,9 @@ impl Pattern {
             row_idx,
             slot,
             symbolic,
+            full_ptr,
+            full_col,
+            full_src,
         })
     }
 
@@ -149,11 +192,15 @@ impl PencilMatrices {
             k_val[s] += kv;
             m_val[s] += mv;
         }
+        let k_full = pat.full_src.iter().map(|&p| k_val[p]).collect();
+        let m_full = pat.full_src.iter().map(|&p| m_val[p]).collect();
         PencilMatrices {
             n: pat.n,
             pat,
             k_val,
             m_val,
+            k_full,
+            m_full,
         }
     }
 
@@ -185,30 +232,25 @@ impl PencilMatrices {
         m
     }
 
-    fn sym_mul(&self, vals: &[f64], x: &[f64], y: &mut [f64]) {
-        y.iter_mut().for_each(|v| *v = 0.0);
-        for j in 0..self.n {
+    fn sym_mul(&self, full_vals: &[f64], x: &[f64], y: &mut [f64]) {
+        let (ptr, col) = (&self.pat.full_ptr, &self.pat.full_col);
+        for (r, yr) in y.iter_mut().enumerate() {
             let mut acc = 0.0;
-            for p in self.pat.col_ptr[j]..self.pat.col_ptr[j + 1] {
-                let i = self.pat.row_idx[p];
-                let v = vals[p];
-                acc += v * x[i];
-                if i != j {
-                    y[i] += v * x[j];
-                }
+            for q in ptr[r]..ptr[r + 1] {
+                acc += full_vals[q] * x[col[q]];
             }
-            y[j] += acc;
+            *yr = acc;
         }
     }
 
     /// y = K x (permuted numbering).
     pub fn k_mul(&self, x: &[f64], y: &mut [f64]) {
-        self.sym_mul(&self.k_val, x, y)
+        self.sym_mul(&self.k_full, x, y)
     }
 
     /// y = M x (permuted numbering).
     pub fn m_mul(&self, x: &[f64], y: &mut [f64]) {
-        self.sym_mul(&self.m_val, x, y)
+        self.sym_mul(&self.m_full, x, y)
     }
 
     /// x^T M x split by the component (0, 1, 2) that owns each dof (`owner`, permuted
