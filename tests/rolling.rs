@@ -407,9 +407,12 @@ fn demo_cases_lateral_force_grows_with_the_motion_and_case4_saturates() {
 }
 
 /// Issue 5, static normal contact at 1 mm (`data/scenarios/static-hertz.json`, 251 k elements;
-/// `cargo test --release --test rolling -- --ignored static`, about 15 minutes). It FAILS as
-/// of 2026-11-23: the 20 000-step preload stops at 68 kN of the 110 kN load, and at that load
-/// b is 16 % above Hertz (the patch straddles the crown's R300|R80 junction): the patch of the preloaded wheel against Hertz for the local
+/// `cargo test --release --test rolling -- --ignored static`, about 24 minutes). It FAILS as
+/// of 2026-11-23: with up to 60 000 preload steps the residual reaches 1e-3 at 48 100 steps
+/// but the contact carries 96.2 kN of the 109.7 kN load (first assertion), and at that load b
+/// is 33 % above Hertz (the patch spreads across the crown's R300|R80 junction, where the
+/// contact is not Hertzian; a 7.68 vs 7.81 mm, peak 1392 vs 1580 MPa). Checks the patch of
+/// the preloaded wheel against Hertz for the local
 /// curvatures of S1002 on 54E1 at 1:40 at the measured normal force. Semi-axes from the
 /// pressure-weighted second moments, which for a Hertz pressure `p0 sqrt(1 - x²/a² - y²/b²)`
 /// are `a² / 5` and `b² / 5`; peak pressure against `3 N / (2 pi a b)`. 10 %: the issue's
