@@ -168,18 +168,6 @@ fn faer_err(what: &str, e: impl std::fmt::Debug) -> Error {
 }
 
 impl PencilMatrices {
-    /// Build from symmetric triplets `(i, j, k, m)` (only i <= j is kept, duplicates are
-    /// summed), AMD-ordered.
-    pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64, f64)]) -> Result<Self> {
-        let t: Vec<_> = triplets.iter().filter(|t| t.0 <= t.1).copied().collect();
-        let pairs: Vec<(usize, usize)> = t.iter().map(|t| (t.0, t.1)).collect();
-        let perm_inv = amd_order(n, pairs.clone())?;
-        let pat = std::sync::Arc::new(Pattern::new(n, &pairs, perm_inv)?);
-        let k: Vec<f64> = t.iter().map(|t| t.2).collect();
-        let m: Vec<f64> = t.iter().map(|t| t.3).collect();
-        Ok(Self::from_values(pat, &k, &m))
-    }
-
     /// Scatter entry values (in the order of the pairs the pattern was built from; duplicates
     /// summed) onto a shared pattern.
     pub fn from_values(pat: std::sync::Arc<Pattern>, k: &[f64], m: &[f64]) -> Self {

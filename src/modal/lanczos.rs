@@ -485,31 +485,73 @@ pub fn sturm_count(
     sturm_count_with(&a, &symbolic)
 }
 
+/// Which numeric factorisation of a pencil matrix.
+#[derive(Clone, Copy)]
+enum FactorKind {
+    /// `L Lᵀ` (positive definite: the shift below the spectrum).
+    Llt,
+    /// `L D Lᵀ`, no pivoting (indefinite: the Sturm count at the band edge).
+    Ldlt,
+}
+
+/// Numeric factor values of `a` on its symbolic structure; the faer error as text on failure.
+fn numeric_factor(
+    a: &SparseColMat<usize, f64>,
+    symbolic: &SymbolicCholesky<usize>,
+    kind: FactorKind,
+) -> std::result::Result<Vec<f64>, String> {
+    let mut l_values = vec![0.0f64; symbolic.len_val()];
+    let par = Par::rayon(0);
+    match kind {
+        FactorKind::Llt => {
+            let mut mem = MemBuffer::new(
+                symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+            );
+            symbolic
+                .factorize_numeric_llt(
+                    &mut l_values,
+                    a.as_ref(),
+                    Side::Lower,
+                    Default::default(),
+                    par,
+                    MemStack::new(&mut mem),
+                    Default::default(),
+                )
+                .map(|_| ())
+                .map_err(|e| format!("{e:?}"))?;
+        }
+        FactorKind::Ldlt => {
+            let mut mem = MemBuffer::new(
+                symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()),
+            );
+            symbolic
+                .factorize_numeric_ldlt(
+                    &mut l_values,
+                    a.as_ref(),
+                    Side::Lower,
+                    Default::default(),
+                    par,
+                    MemStack::new(&mut mem),
+                    Default::default(),
+                )
+                .map(|_| ())
+                .map_err(|e| format!("{e:?}"))?;
+        }
+    }
+    Ok(l_values)
+}
+
 /// [`sturm_count`] for `a = K - lambda_max M` with its symbolic structure already analysed.
 fn sturm_count_with(
     a: &SparseColMat<usize, f64>,
     symbolic: &SymbolicCholesky<usize>,
 ) -> Result<usize> {
-    let mut l_values = vec![0.0f64; symbolic.len_val()];
-    let par = Par::rayon(0);
-    let mut mem =
-        MemBuffer::new(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()));
-    symbolic
-        .factorize_numeric_ldlt(
-            &mut l_values,
-            a.as_ref(),
-            Side::Lower,
-            Default::default(),
-            par,
-            MemStack::new(&mut mem),
-            Default::default(),
-        )
-        .map_err(|e| {
-            Error::Numerical(format!(
-                "LDLᵀ of K - w_max² M for the Sturm count failed ({e:?}): the band edge lies on \
-                 an eigenvalue; move --fmax-hz slightly"
-            ))
-        })?;
+    let l_values = numeric_factor(a, symbolic, FactorKind::Ldlt).map_err(|e| {
+        Error::Numerical(format!(
+            "LDLᵀ of K - w_max² M for the Sturm count failed ({e}): the band edge lies on an \
+             eigenvalue; move --fmax-hz slightly"
+        ))
+    })?;
     // D is the diagonal of the unit lower factor's storage: the diagonal entry of each column
     // (simplicial) or of each supernode's dense block (supernodal).
     let mut negative = 0;
@@ -568,35 +610,19 @@ pub fn solve(
     let sigma = -(2.0 * PI * shift_hz).powi(2);
     let lambda_max = (2.0 * PI * opts.fmax_hz).powi(2);
     let theta_min = 1.0 / (lambda_max - sigma);
+    let trace = std::env::var_os("SQUEAL_MODAL_TRACE").is_some();
     if n < DENSE_BELOW_DOFS {
         return solve_dense(k, m, opts, sigma, lambda_max, started);
     }
 
     let a = shifted(k, m, sigma)?;
     let symbolic = symbolic_pencil(&a)?;
-    let mut l_values = vec![0.0f64; symbolic.len_val()];
-    {
-        let par = Par::rayon(0);
-        let mut mem =
-            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
-        symbolic
-            .factorize_numeric_llt(
-                &mut l_values,
-                a.as_ref(),
-                Side::Lower,
-                Default::default(),
-                par,
-                MemStack::new(&mut mem),
-                Default::default(),
-            )
-            .map_err(|e| {
-                Error::Numerical(format!(
-                    "Cholesky of K - sigma M (sigma = {sigma:.6e}) failed ({e:?}): K is not \
-                     positive semi-definite or M not positive definite (inverted elements? \
-                     negative density?)"
-                ))
-            })?;
-    }
+    let l_values = numeric_factor(&a, &symbolic, FactorKind::Llt).map_err(|e| {
+        Error::Numerical(format!(
+            "Cholesky of K - sigma M (sigma = {sigma:.6e}) failed ({e}): K is not positive \
+             semi-definite or M not positive definite (inverted elements? negative density?)"
+        ))
+    })?;
     drop(a);
     let factor_seconds = started.elapsed().as_secs_f64();
     let op = ShiftInvert {
@@ -677,7 +703,7 @@ pub fn solve(
             // A converged Ritz value past the band edge: the band's Ritz values have passed
             // theirs (interlacing); the Sturm count below checks that none was missed.
             let beyond = (0..k_dim).any(|i| theta[i] < theta_min && theta[i] > 0.0 && conv(i));
-            if std::env::var_os("SQUEAL_MODAL_TRACE").is_some() {
+            if trace {
                 let n_band = (0..k_dim).filter(|&i| theta[i] >= theta_min).count();
                 let n_conv = (0..k_dim)
                     .filter(|&i| theta[i] >= theta_min && conv(i))
@@ -708,7 +734,7 @@ pub fn solve(
         block = next_block;
     };
 
-    if std::env::var_os("SQUEAL_MODAL_TRACE").is_some() {
+    if trace {
         eprintln!(
             "trace: phases (s): solve {:.2}, orthogonalise {:.2}, next block {:.2}, Ritz {:.2}",
             phase_s[0], phase_s[1], phase_s[2], phase_s[3]
@@ -778,7 +804,6 @@ pub fn solve(
         .filter(|mode| mode.eigenvalue <= lambda_max)
         .collect();
     modes.sort_by(|a, b| a.eigenvalue.total_cmp(&b.eigenvalue));
-    let trace = std::env::var_os("SQUEAL_MODAL_TRACE").is_some();
     if trace {
         for md in &modes {
             eprintln!(
