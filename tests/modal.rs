@@ -359,6 +359,40 @@ fn bad_band_and_bad_clamp_set_are_errors() {
 }
 
 #[test]
+fn band_without_modes_is_an_error_naming_the_band() {
+    // Clamped cantilever bar 1 m long (264 dofs: the Lanczos path): its first bending mode is
+    // near 40 Hz, so nothing lies below 1 Hz; the Sturm count (0) says so before any iteration.
+    let mesh = cuboid([20, 1, 1], [1.0, 0.05, 0.05], 1);
+    let a = assemble(
+        &mesh,
+        &steel_nu(0.3),
+        &Constraints {
+            clamped_sets: vec!["x0".into()],
+            ties: false,
+        },
+        MassKind::Consistent,
+        Hex8Kind::Standard,
+    )
+    .unwrap();
+    assert!(
+        a.k.nrows() >= 200,
+        "{} dofs: not the Lanczos path",
+        a.k.nrows()
+    );
+    let err = solve(
+        &a.k,
+        &a.m,
+        &ModalOptions {
+            fmax_hz: 1.0,
+            ..Default::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("no mode below 1 Hz"), "{err}");
+}
+
+#[test]
 fn synthetic_ring_cos3_axial_is_n3_axial() {
     // ring: a cuboid bent into an annulus around the y axis (radius 0.3..0.46 m)
     let nth = 48;

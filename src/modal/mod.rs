@@ -4,18 +4,21 @@
 //! Method (shift-invert Lanczos with full reorthogonalisation in the M inner product):
 //! - shift `sigma = -(2 pi f_s)²` below the band, so `A = K - sigma M` is symmetric positive
 //!   definite for clamped and free-free bodies alike (a free body's rigid modes have `w² = 0 >
-//!   sigma`); one sparse Cholesky `A = L Lᵀ` (faer, AMD ordering);
+//!   sigma`); one sparse Cholesky `A = L Lᵀ` (faer, supernodal, with the smaller factor of
+//!   AMD and our nested dissection, [`ordering`]);
 //! - operator `Op = A⁻¹ M`, self-adjoint in `<u, v>_M = uᵀ M v`, with eigenvalues
 //!   `theta = 1 / (w² - sigma)`: the lowest frequencies are the largest, best separated `theta`;
-//! - block Krylov basis `Q` (blocks of 8 columns: one multi-right-hand-side solve reads the
-//!   factor once per block; multiplicities up to 8, rigid modes and sin/cos pairs, are found
-//!   without restarts), M-orthonormal: two passes of block classical Gram-Schmidt against all
-//!   of `Q` (dense products), then SVQB and Cholesky QR inside the block; projected matrix
-//!   `H = Qᵀ M Op Q`, Ritz pairs from a dense symmetric eigen solve of `H`, residual estimate
-//!   `||B u_last||` from the last block's coupling `B`; stop when every Ritz value in the band
-//!   and one past it have converged;
-//! - completeness: the Sturm count, the negative pivots of a supernodal LDLᵀ of
-//!   `K - w_max² M`, must equal the modes found;
+//! - completeness first: the Sturm count, the negative pivots of a supernodal LDLᵀ of
+//!   `K - w_max² M` (same symbolic analysis), is the number of modes in the band;
+//! - block Krylov basis `Q` (blocks of 16 columns: one multi-right-hand-side solve reads the
+//!   factor once per column group; multiplicities up to 16, rigid modes and sin/cos pairs, are
+//!   found without restarts), M-orthonormal, with `M Q` kept beside it: block Gram-Schmidt
+//!   against the last two blocks, then one pass against all of `Q` (dense products), then
+//!   SVQB and Cholesky QR inside the block; projected matrix `H = Qᵀ M Op Q`, Ritz pairs from a
+//!   dense symmetric eigen solve of `H`, residual estimate `||B u_last||` from the last block's
+//!   coupling `B`; stop on the block where as many Ritz values in the band as the Sturm count
+//!   have converged (without the count: every one in the band and one past it), and check
+//!   that the modes returned match the count;
 //! - models under 200 dofs take a dense solve;
 //! - each Ritz vector is purified by one more application of `Op` (damps the components along
 //!   high modes that rounding leaves), its eigenvalue is the Rayleigh quotient, and its relative
@@ -24,5 +27,6 @@
 
 pub mod classify;
 pub mod lanczos;
+pub mod ordering;
 
 pub use lanczos::{solve, ModalOptions, ModalSolution, Mode};
