@@ -29,6 +29,9 @@ pub struct ModalBenchArgs {
     /// Upper band edge (Hz).
     #[arg(long, default_value_t = 10_000.0)]
     pub fmax: f64,
+    /// Block size of the block Lanczos (columns per operator application), 1 to 64.
+    #[arg(long, default_value_t = squeal::modal::ModalOptions::default().block_size)]
+    pub block_size: usize,
 }
 
 fn modal(a: ModalBenchArgs) -> Result<()> {
@@ -39,6 +42,13 @@ fn modal(a: ModalBenchArgs) -> Result<()> {
             "command line",
             "--fmax",
             format!("{} is outside the allowed range (0, 1e6] Hz", a.fmax),
+        ));
+    }
+    if !(1..=64).contains(&a.block_size) {
+        return Err(squeal::Error::input(
+            "command line",
+            "--block-size",
+            format!("{} is outside the allowed range 1..=64", a.block_size),
         ));
     }
     let started = std::time::Instant::now();
@@ -65,6 +75,7 @@ fn modal(a: ModalBenchArgs) -> Result<()> {
         &ModalOptions {
             fmax_hz: a.fmax,
             rigid_below_hz: 1.0,
+            block_size: a.block_size,
             ..Default::default()
         },
     )?;
