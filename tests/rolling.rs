@@ -206,25 +206,34 @@ fn resumed_run_matches_the_uninterrupted_one() {
     let _ = std::fs::remove_dir_all(&base);
 }
 
-/// Issue 5: "the normal force equals the applied load within 1 % after preload". The tiny
-/// model relaxed to the 1e-3 residual carries the wheelset and sprung weight on the rail: the
-/// vertical contact force (the normal force's vertical part plus friction, which is zero at
-/// rest) balances `(m_wheelset + m_sprung) g`. 1 %: the residual bound 1e-3 of a reference
-/// force about twice the load leaves at most 0.2 % of out-of-balance; the rest is margin for
-/// the suspension, whose sprung mass is put back at its static offset between stages.
+/// Issue 5: "the normal force equals the applied load within 1 % after preload". The preload of
+/// the tiny model is asked for the load within 0.2 % (its load criterion, beside the residual):
+/// it must get there within its step budget, record the error it reached, and the run's first
+/// sample must show the vertical contact force (the normal force's vertical part plus friction,
+/// zero at rest) balancing `(m_wheelset + m_sprung) g` within 0.5 %: the margin over 0.2 % is
+/// for the step from the relaxed state (velocities zeroed, friction restored) to the first
+/// sample.
 #[test]
 fn preloaded_wheel_carries_the_static_load() {
     let mut loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
     loaded.case.preload.max_steps = 20_000;
     loaded.case.preload.damping_per_s = 450.0;
+    loaded.case.preload.load_tolerance = 0.002;
     let (record, dir) = run_in_temp(&loaded, "squeal_rolling_static", Some(2e-5));
     let preload = record.preload.expect("preload report");
     assert!(preload.converged, "{preload:?}");
+    let error = record.model.preload_load_error;
+    assert!(error.abs() < 0.002, "preload load error {error}");
     let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
     let vertical = column(&forces, "vertical_force_n")[0];
     let load = record.model.static_wheel_load_n;
+    eprintln!(
+        "preload {} steps, load error {:+.3} %; first sample {vertical:.1} N of {load:.1} N",
+        preload.steps,
+        100.0 * error
+    );
     assert!(
-        (vertical - load).abs() < 0.01 * load,
+        (vertical - load).abs() < 0.005 * load,
         "vertical contact force {vertical} N vs static wheel load {load} N"
     );
     let _ = std::fs::remove_dir_all(&dir);
@@ -407,16 +416,17 @@ fn demo_cases_lateral_force_grows_with_the_motion_and_case4_saturates() {
 }
 
 /// Issue 5, static normal contact at 1 mm (`data/scenarios/static-hertz.json`, 251 k elements;
-/// `cargo test --release --test rolling -- --ignored static`, about 24 minutes). It FAILS as
-/// of 2026-11-23: with up to 60 000 preload steps the residual reaches 1e-3 at 48 100 steps
-/// but the contact carries 96.2 kN of the 109.7 kN load (first assertion), and at that load b
-/// is 33 % above Hertz (the patch spreads across the crown's R300|R80 junction, where the
-/// contact is not Hertzian; a 7.68 vs 7.81 mm, peak 1392 vs 1580 MPa). Checks the patch of
-/// the preloaded wheel against Hertz for the local
+/// `cargo test --release --test rolling -- --ignored static`, about 25 minutes). Passed on
+/// 2026-11-23 with the wheel 28 mm to the field side (contact 2.6 mm from the rail centre, inside
+/// the crown's R300 arc) and the preload's load criterion: 45 400 preload steps, residual 8e-5,
+/// N 109.6 kN of 109.7 kN; a 8.59 mm (Hertz 8.32, +3.2 %), b 3.81 mm (3.57, +6.7 %), peak
+/// 1620 MPa (1762, -8.1 %), 123 contact nodes. (At the tape circle the patch straddled the
+/// R300|R80 junction: b +33 %; and a residual-only preload stopped with 12.6 % of the load
+/// missing.) Checks the patch of the preloaded wheel against Hertz for the local
 /// curvatures of S1002 on 54E1 at 1:40 at the measured normal force. Semi-axes from the
 /// pressure-weighted second moments, which for a Hertz pressure `p0 sqrt(1 - x²/a² - y²/b²)`
 /// are `a² / 5` and `b² / 5`; peak pressure against `3 N / (2 pi a b)`. 10 %: the issue's
-/// tolerance (nodal pressures on a 1 mm grid over a patch of about 14 x 10 mm).
+/// tolerance (nodal pressures on a 1 mm grid over a patch of about 17 x 8 mm).
 #[test]
 #[ignore]
 fn static_patch_at_1mm_matches_hertz() {

@@ -68,6 +68,9 @@ pub struct ModelInfo {
     pub rolling_radius_m: f64,
     /// Total static wheel load: sprung mass + wheelset (N).
     pub static_wheel_load_n: f64,
+    /// After the preload: `(F_z - W) / W`, the vertical contact force against the static wheel
+    /// load.
+    pub preload_load_error: f64,
     /// Rim node used for the point histories.
     pub rim_node: usize,
     /// Inertia added for the preload at its own step (kg), if any.
@@ -322,6 +325,7 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         wheel_centre_m: centre,
         rolling_radius_m,
         static_wheel_load_n,
+        preload_load_error: f64::NAN,
         rim_node,
         preload_added_mass_kg: preload_added_mass_kg.iter().sum(),
         contact_slaves_with_capped_penalty: capped,
@@ -359,51 +363,85 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
 /// relaxation cannot wait for. So after each stage but the last the sprung mass is put back at
 /// its static offset from the current axle box (`u_s = u_box - W / k`, at rest), and the next
 /// stage relaxes that small disturbance: the wheel then carries the full static load.
+///
+/// Converged means three things: the relative residual below the case's tolerance, the sprung
+/// mass in place (within 1 µm), and the wheel carrying its static load: the vertical contact
+/// force within `load_tolerance` of the wheelset and sprung weight. The last is needed because
+/// the residual is a norm over all nodes: the wheelset still sinking slowly into the track as
+/// one body (an overdamped mode) leaves a few kN spread over thousands of nodes, which that
+/// norm does not see (measured on the 1 mm model: residual 9e-4 with 8 % of the load missing).
 fn staged_preload(m: &mut RollingModel, preload: &case::PreloadSpec) -> Result<PreloadReport> {
-    // Ten stages: the axle box moves little within one, so each put-back disturbs the wheel
-    // by a few hundred newtons at most.
-    const STAGES: u64 = 10;
-    let per_stage = (preload.max_steps / STAGES).max(1);
+    // Stages of a tenth of the step budget: the axle box moves little within one, so each
+    // put-back disturbs the wheel by a few hundred newtons at most.
+    let per_stage = (preload.max_steps / 10).max(1);
     let mut total_steps = 0;
-    let mut last = None;
-    for stage in 0..STAGES {
+    let mut last: Option<PreloadReport> = None;
+    let mut stage = 0;
+    while total_steps < preload.max_steps {
+        let steps = per_stage.min(preload.max_steps - total_steps);
         let report = relax(
             &mut m.solver,
             &mut m.contact,
             PreloadOptions {
                 tolerance: preload.tolerance,
-                max_steps: if stage + 1 == STAGES {
-                    preload.max_steps - total_steps
-                } else {
-                    per_stage
-                },
+                max_steps: steps,
                 fixed_damping_per_s: Some(preload.damping_per_s),
                 require_convergence: false,
-                keep_velocities: stage + 1 < STAGES,
+                // A stage ends early once the residual is small; the relaxation goes on in the
+                // next (velocities are zeroed below, when it is over).
+                keep_velocities: true,
                 ..Default::default()
             },
         )?;
         total_steps += report.steps;
-        let converged = report.converged;
-        last = Some(report);
-        if stage + 1 == STAGES || total_steps >= preload.max_steps {
-            break;
-        }
+        let final_stage = total_steps >= preload.max_steps;
+        let load_error = preload_load_error(m);
+        m.info.preload_load_error = load_error;
         let target = m.solver.u[m.axle_box_node][2] - m.suspension_static_compression_m;
         let moved = (m.solver.u[m.sprung_node][2] - target).abs();
-        // Converged with the sprung mass already in place (within 1 µm): done.
-        if converged && moved < 1e-6 {
+        if std::env::var_os("SQUEAL_PRELOAD_TRACE").is_some() {
+            eprintln!(
+                "preload stage {stage}: {} steps (total {total_steps}), residual {:.2e}, \
+                 wheel load error {:+.3} %, sprung mass {:.2e} m from its place",
+                report.steps,
+                report.relative_residual,
+                100.0 * load_error,
+                moved
+            );
+        }
+        let converged =
+            report.converged && moved < 1e-6 && load_error.abs() < preload.load_tolerance;
+        last = Some(PreloadReport {
+            converged,
+            ..report
+        });
+        if converged || final_stage {
             break;
         }
         m.solver.u[m.sprung_node][2] = target;
         m.solver.v[m.sprung_node] = [0.0; 3];
+        stage += 1;
     }
-    // The run starts from rest (an early converged stage kept its velocities).
+    // The run starts from rest (a stage that stopped early kept its velocities).
     m.solver.v.iter_mut().for_each(|v| *v = [0.0; 3]);
     m.solver.zero_rigid_velocities();
-    let mut report = last.expect("at least one stage");
+    let mut report = last.ok_or_else(|| {
+        Error::input(
+            "scenario",
+            "preload.max_steps",
+            "must be at least 1".to_string(),
+        )
+    })?;
     report.steps = total_steps;
     Ok(report)
+}
+
+/// `(F_z - W) / W`: the vertical contact force on the wheel against the static wheel load
+/// (wheelset and sprung weight).
+fn preload_load_error(m: &RollingModel) -> f64 {
+    let (normal, tangential, _) = m.contact.pair.resultants();
+    let load = m.info.static_wheel_load_n;
+    (normal[2] + tangential[2] - load) / load
 }
 
 /// Holds the axle at the rolling speed and spins it at `V (1 + xi(t)) / R` (see
