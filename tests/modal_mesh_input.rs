@@ -496,6 +496,18 @@ fn bench_modal_matches_modes_on_exported_wheel_and_mesh_cli_runs() {
         .output()
         .unwrap();
     assert!(bench.status.success());
+    // An impossible block size is refused, naming the option and its range, exit code 2.
+    let refused = Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .args(["bench", "modal", "--block-size", "0", "--mtx"])
+        .arg(&mtx)
+        .output()
+        .unwrap();
+    let message = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{message}");
+    assert!(
+        message.contains("--block-size") && message.contains("1..=64"),
+        "{message}"
+    );
     let text = String::from_utf8_lossy(&bench.stdout);
     let freqs: Vec<f64> = text
         .lines()

@@ -122,6 +122,11 @@ fn bad_case_files_name_the_field() {
         ),
         ("\"end_time_s\": 0.002", "\"end_time_s\": 5.0", "end_time_s"),
         (
+            "\"tolerance\": 0.001,",
+            "\"tolerance\": 0.001, \"load_tolerance\": 1.5,",
+            "preload.load_tolerance",
+        ),
+        (
             "\"model_scenario\": \"ci-tiny.json\"",
             "\"model_scenario\": \"missing.json\"",
             "model_scenario",

@@ -804,10 +804,10 @@ pub fn solve(
             // theirs (interlacing); the Sturm count below checks that none was missed.
             let beyond = (0..k_dim).any(|i| theta[i] < theta_min && theta[i] > 0.0 && conv(i));
             let n_band = (0..k_dim).filter(|&i| theta[i] >= theta_min).count();
+            let n_conv = (0..k_dim)
+                .filter(|&i| theta[i] >= theta_min && conv(i))
+                .count();
             if trace {
-                let n_conv = (0..k_dim)
-                    .filter(|&i| theta[i] >= theta_min && conv(i))
-                    .count();
                 eprintln!(
                     "trace: {:.2} s basis {k_dim}: {n_conv}/{n_band} in band converged",
                     started.elapsed().as_secs_f64()
@@ -838,9 +838,6 @@ pub fn solve(
             // Check again after ~15 % more basis (the dense eigen solve of H costs k³, 0.2 s
             // in all for a 592-vector basis), or on every block once three quarters of the
             // counted modes have converged.
-            let n_conv = (0..k_dim)
-                .filter(|&i| theta[i] >= theta_min && conv(i))
-                .count();
             let closing = sturm_count.is_some_and(|count| 4 * n_conv >= 3 * count);
             next_check = if closing {
                 blocks + 1
