@@ -32,6 +32,7 @@
 pub mod eigen;
 pub mod element;
 pub mod mesh;
+pub mod revolve;
 
 use std::time::Instant;
 

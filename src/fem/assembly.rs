@@ -18,7 +18,7 @@ use faer::sparse::{SparseColMat, Triplet};
 use rayon::prelude::*;
 
 use super::hex8::{element_matrices_of_kind, ElasticMaterial, Hex8Kind};
-use super::tet10;
+use super::{hex27, tet10};
 use crate::mesh::volume::{VolumeElement, VolumeMesh};
 use crate::mesh::{Mesh, TiedInterface};
 use crate::{Error, Result};
@@ -237,6 +237,11 @@ pub fn assemble_volume(
                     let x = c.map(|n| mesh.nodes[n]);
                     let em = tet10::element_matrices(&x, mat, lumped).ok_or_else(|| inverted(e))?;
                     buf.set(c, em.k.iter().flatten(), em.m.iter().flatten());
+                }
+                VolumeElement::Hex27(c) => {
+                    let x = c.map(|n| mesh.nodes[n]);
+                    let em = hex27::element_matrices(&x, mat, lumped).ok_or_else(|| inverted(e))?;
+                    buf.set(c, em.k.iter(), em.m.iter());
                 }
             }
             Ok(())

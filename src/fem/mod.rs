@@ -3,6 +3,7 @@
 //! parallel sparse assembly with constraint elimination (clamped node sets, tied interfaces).
 
 pub mod assembly;
+pub mod hex27;
 pub mod hex8;
 pub mod hex8_incompatible;
 pub mod jacobian;

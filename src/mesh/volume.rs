@@ -1,10 +1,10 @@
-//! General volume meshes for modal input: nodes plus 8-node hexahedra and/or 10-node
-//! tetrahedra with material ids and named node sets, read from Gmsh MSH 4.1 (`.msh`), legacy VTK
+//! General volume meshes for modal input: nodes plus 8-node hexahedra, 10-node tetrahedra
+//! and/or 27-node hexahedra with material ids and named node sets, read from Gmsh MSH 4.1 (`.msh`), legacy VTK
 //! ASCII (`.vtk`) or VTK XML (`.vtu`) files; and node selection by a box expression
 //! (`x<-1.09, z>=0.2`) for clamping.
 //!
-//! Node order is VTK's for both kinds (hexahedron type 12, quadratic tetrahedron type 24); Gmsh
-//! tet10 connectivity is permuted on reading (see [`crate::fem::tet10::GMSH_TO_VTK`]). Lower
+//! Node order is VTK's for all kinds (hexahedron type 12, quadratic tetrahedron type 24,
+//! triquadratic hexahedron type 29; the Gmsh reader takes hex8 and tet10 only); Gmsh tet10 connectivity is permuted on reading (see [`crate::fem::tet10::GMSH_TO_VTK`]). Lower
 //! dimensional cells (vertices, lines, triangles, quads and their quadratic forms) are skipped,
 //! as are nodes that no volume element uses (a free node would make K singular).
 
@@ -13,7 +13,7 @@ use std::path::Path;
 
 use super::vtu::VtuContents;
 use super::{Mesh, P3};
-use crate::fem::tet10;
+use crate::fem::{hex27, tet10};
 use crate::{Error, Result};
 
 /// One volume element (VTK node order).
@@ -23,6 +23,8 @@ pub enum VolumeElement {
     Hex8([usize; 8]),
     /// Quadratic tetrahedron.
     Tet10([usize; 10]),
+    /// Triquadratic (Lagrange) hexahedron.
+    Hex27([usize; 27]),
 }
 
 impl VolumeElement {
@@ -31,18 +33,20 @@ impl VolumeElement {
         match self {
             VolumeElement::Hex8(c) => c,
             VolumeElement::Tet10(c) => c,
+            VolumeElement::Hex27(c) => c,
         }
     }
-    /// VTK cell type (12 or 24).
+    /// VTK cell type (12, 24 or 29).
     pub fn vtk_type(&self) -> u8 {
         match self {
             VolumeElement::Hex8(_) => 12,
             VolumeElement::Tet10(_) => 24,
+            VolumeElement::Hex27(_) => 29,
         }
     }
 }
 
-/// A mixed hex8 / tet10 mesh.
+/// A mixed hex8 / tet10 / hex27 mesh.
 #[derive(Clone, Debug, Default)]
 pub struct VolumeMesh {
     /// Node coordinates (m).
@@ -76,6 +80,7 @@ impl VolumeMesh {
         match &self.elements[e] {
             VolumeElement::Hex8(c) => super::hex::volume(&c.map(|n| self.nodes[n])),
             VolumeElement::Tet10(c) => tet10::volume(&c.map(|n| self.nodes[n])),
+            VolumeElement::Hex27(c) => hex27::volume(&c.map(|n| self.nodes[n])),
         }
     }
 
@@ -194,6 +199,7 @@ impl VolumeMesh {
             match el {
                 VolumeElement::Hex8(c) => c.iter_mut().for_each(|k| *k = new_id[*k]),
                 VolumeElement::Tet10(c) => c.iter_mut().for_each(|k| *k = new_id[*k]),
+                VolumeElement::Hex27(c) => c.iter_mut().for_each(|k| *k = new_id[*k]),
             }
         }
         for ids in self.node_sets.values_mut() {
@@ -254,7 +260,7 @@ pub fn read(path: &Path) -> Result<VolumeMesh> {
 /// poly-line, triangle, triangle strip, polygon, pixel, quad, and their quadratic forms).
 const SKIPPED_VTK_TYPES: [u8; 13] = [1, 2, 3, 4, 5, 6, 7, 8, 9, 21, 22, 23, 28];
 
-/// Convert VTK cells (types 12 and 24) into a volume mesh; other volume cell types are errors.
+/// Convert VTK cells (types 12, 24 and 29) into a volume mesh; other volume cell types are errors.
 pub fn from_vtk_contents(source: &str, c: VtuContents) -> Result<VolumeMesh> {
     let ids = ["material", "gmsh:physical", "CellEntityIds", "MaterialIds"]
         .iter()
@@ -309,6 +315,12 @@ pub fn from_vtk_contents(source: &str, c: VtuContents) -> Result<VolumeMesh> {
                 m.elements.push(VolumeElement::Tet10(conn));
                 m.material.push(material);
             }
+            29 => {
+                let conn: [usize; 27] =
+                    cell.as_slice().try_into().map_err(|_| wrong_count(27))?;
+                m.elements.push(VolumeElement::Hex27(conn));
+                m.material.push(material);
+            }
             10 => {
                 return Err(Error::input(
                     source,
@@ -321,7 +333,7 @@ pub fn from_vtk_contents(source: &str, c: VtuContents) -> Result<VolumeMesh> {
                 return Err(Error::input(
                     source,
                     "cells",
-                    format!("cell {i} has VTK cell type {t}, which is not supported: volume cells must be hexahedra (12) or quadratic tetrahedra (24)"),
+                    format!("cell {i} has VTK cell type {t}, which is not supported: volume cells must be hexahedra (12), quadratic tetrahedra (24) or triquadratic hexahedra (29)"),
                 ))
             }
         }

@@ -108,14 +108,28 @@ pub fn classify_shape_points(
     for i in 0..n_nodes {
         let dx = nodes[i][0] - centre[0];
         let dz = nodes[i][2] - centre[2];
-        let r = dx.hypot(dz);
-        radius[i] = r;
+        radius[i] = dx.hypot(dz);
         angle[i] = dz.atan2(dx);
-        let (c, s) = if r > 1e-12 {
-            (dx / r, dz / r)
-        } else {
-            (1.0, 0.0)
-        };
+    }
+    let r_max = radius.iter().cloned().fold(0.0, f64::max);
+    // A node on the axis (a revolved section's solid core) has no radial direction: its
+    // in-plane motion is radial along one meridian and circumferential along the one at 90
+    // degrees, so it counts half to each (the average over the circle of a translation's
+    // u_r² and u_t²); in the nodal-circle walk it is projected on the walked meridian.
+    let on_axis = |i: usize| radius[i] <= 1e-9 * r_max;
+    for i in 0..n_nodes {
+        if on_axis(i) {
+            cyl[i] = [u[i][1], 0.0, 0.0];
+            let in_plane = u[i][0] * u[i][0] + u[i][2] * u[i][2];
+            energy[0] += weights[i] * u[i][1] * u[i][1];
+            energy[1] += 0.5 * weights[i] * in_plane;
+            energy[2] += 0.5 * weights[i] * in_plane;
+            continue;
+        }
+        let (c, s) = (
+            (nodes[i][0] - centre[0]) / radius[i],
+            (nodes[i][2] - centre[2]) / radius[i],
+        );
         let ur = u[i][0] * c + u[i][2] * s;
         let ut = -u[i][0] * s + u[i][2] * c;
         cyl[i] = [u[i][1], ur, ut];
@@ -134,7 +148,6 @@ pub fn classify_shape_points(
         ModeFamily::Circumferential,
     ][fam_k];
 
-    let r_max = radius.iter().cloned().fold(0.0, f64::max);
     let rim: Vec<usize> = (0..n_nodes).filter(|&i| radius[i] > 0.9 * r_max).collect();
     let wsum: f64 = rim.iter().map(|&i| weights[i]).sum::<f64>().max(1e-300);
     let n_max = 24usize;
@@ -183,7 +196,17 @@ pub fn classify_shape_points(
             }
             let b = (((radius[i] - r_min) / (r_max - r_min + 1e-300)) * bins as f64) as usize;
             let b = b.min(bins - 1);
-            sum[b] += weights[i] * cyl[i][comp];
+            let value = if on_axis(i) {
+                let (c, s) = (theta0.cos(), theta0.sin());
+                [
+                    u[i][1],
+                    u[i][0] * c + u[i][2] * s,
+                    -u[i][0] * s + u[i][2] * c,
+                ][comp]
+            } else {
+                cyl[i][comp]
+            };
+            sum[b] += weights[i] * value;
             cnt[b] += weights[i];
         }
         let vals: Vec<f64> = (0..bins)
