@@ -263,27 +263,35 @@ fn solver_matches_dense_reference() {
     let ev = c.self_adjoint_eigenvalues(Side::Lower).unwrap();
     let f_ref: Vec<f64> = ev.iter().map(|l| l.sqrt() / (2.0 * PI)).collect();
     let fmax = 0.5 * (f_ref[29] + f_ref[30]);
-    let sol = solve(
-        &a.k,
-        &a.m,
-        &ModalOptions {
-            fmax_hz: fmax,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    assert_eq!(sol.modes.len(), 30);
-    for (m, fr) in sol.modes.iter().zip(&f_ref) {
-        let lam_ref = (2.0 * PI * fr).powi(2);
-        assert!(
-            (m.eigenvalue - lam_ref).abs() < 1e-8 * lam_ref,
-            "{} vs {}",
-            m.frequency_hz,
-            fr
-        );
-        assert!(m.residual < 1e-8);
+    // One shift below the spectrum, and the band sliced into 2 and 5 (shifts inside the band,
+    // indefinite LDLᵀ, Lanczos converging from both ends of the operator's spectrum): the same
+    // 30 eigenvalues as the dense solve either way.
+    for slices in [1, 2, 5] {
+        let sol = solve(
+            &a.k,
+            &a.m,
+            &ModalOptions {
+                fmax_hz: fmax,
+                slices,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(sol.modes.len(), 30, "{slices} slices");
+        assert_eq!(sol.shifts.len(), slices, "every slice holds modes here");
+        assert!(sol.shifts[1..].iter().all(|&s| s > 0.0));
+        for (m, fr) in sol.modes.iter().zip(&f_ref) {
+            let lam_ref = (2.0 * PI * fr).powi(2);
+            assert!(
+                (m.eigenvalue - lam_ref).abs() < 1e-8 * lam_ref,
+                "{slices} slices: {} vs {}",
+                m.frequency_hz,
+                fr
+            );
+            assert!(m.residual < 1e-8);
+        }
+        assert_eq!(sol.sturm_count, Some(30));
     }
-    assert_eq!(sol.sturm_count, Some(30));
     // The Sturm count alone, between consecutive dense eigenvalues: exactly the number below.
     // Only where the two are distinct (1e-3 apart; the square bar has repeated pairs).
     let gaps: Vec<usize> = (1..f_ref.len())
@@ -356,6 +364,19 @@ fn bad_band_and_bad_clamp_set_are_errors() {
         }
     )
     .is_err());
+    for slices in [0, 33] {
+        let err = solve(
+            &a.k,
+            &a.m,
+            &ModalOptions {
+                slices,
+                ..Default::default()
+            },
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("slices") && err.contains("1..=32"), "{err}");
+    }
 }
 
 #[test]

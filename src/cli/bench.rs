@@ -32,6 +32,9 @@ pub struct ModalBenchArgs {
     /// Block size of the block Lanczos (columns per operator application), 1 to 64.
     #[arg(long, default_value_t = squeal::modal::ModalOptions::default().block_size)]
     pub block_size: usize,
+    /// Slices of the band, one shift each (spectrum slicing), 1 to 32.
+    #[arg(long, default_value_t = 1)]
+    pub slices: usize,
 }
 
 fn modal(a: ModalBenchArgs) -> Result<()> {
@@ -76,6 +79,7 @@ fn modal(a: ModalBenchArgs) -> Result<()> {
             fmax_hz: a.fmax,
             rigid_below_hz: 1.0,
             block_size: a.block_size,
+            slices: a.slices,
             ..Default::default()
         },
     )?;

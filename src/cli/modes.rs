@@ -95,6 +95,11 @@ pub struct ModesArgs {
     /// 5 kHz of the default wheel within 0.1 % of `squeal axisym`.
     #[arg(long, conflicts_with = "mesh")]
     pub revolved_sectors: Option<usize>,
+    /// Split the band into this many slices, one shift each (spectrum slicing; 1..=32): the
+    /// first shift below the spectrum, the others in the middle of their slice, each slice's
+    /// completeness checked by Sturm counts at its edges. For wide bands with many modes.
+    #[arg(long, default_value_t = 1)]
+    pub slices: usize,
     /// Hammer-test CSV to compare with (data/hammer/).
     #[arg(long)]
     pub hammer: Option<PathBuf>,
@@ -212,14 +217,17 @@ fn solve_band(args: &ModesArgs, asm: &Assembled) -> Result<ModalSolution> {
             // Tie slaves are snapped onto their faces, so the free wheel's rigid modes are exact
             // (below 1e-2 Hz); its first flexible mode is hundreds of Hz.
             rigid_below_hz: 1.0,
+            slices: args.slices,
             ..Default::default()
         },
     )?;
     println!(
-        "solved: {} modes below {} Hz in {:.2} s (factorisation {:.2} s, Krylov basis {}, {} blocks of {})",
+        "solved: {} modes below {} Hz in {:.2} s ({} shift{}, factorisation {:.2} s, largest Krylov basis {}, {} blocks of {})",
         sol.modes.len(),
         args.fmax_hz,
         sol.solve_seconds,
+        sol.shifts.len(),
+        if sol.shifts.len() == 1 { "" } else { "s" },
         sol.factor_seconds,
         sol.basis_size,
         sol.blocks,

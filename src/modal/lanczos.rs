@@ -7,7 +7,8 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::matmul;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky, LdltRef, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
 };
 use faer::sparse::SparseColMat;
 use faer::{Accum, Mat, MatMut, MatRef, Par, Side};
@@ -37,6 +38,11 @@ pub struct ModalOptions {
     /// `K - w_max² M` (Sylvester's law of inertia, M positive definite) are the eigenvalues
     /// below `fmax`, which must equal the modes found. A second (simplicial) factorisation.
     pub sturm_check: bool,
+    /// Slices of the band, one shift each (spectrum slicing): the first below the spectrum,
+    /// the others in the middle of their slice (edges equally spaced in frequency). More
+    /// slices mean more factorisations but smaller Krylov bases (orthogonalisation grows with
+    /// the square of the basis): for wide bands with many modes. 1..=[`MAX_SLICES`].
+    pub slices: usize,
 }
 
 impl Default for ModalOptions {
@@ -53,6 +59,7 @@ impl Default for ModalOptions {
             // with 32 (basis 592 / 504 / 832), measured 2026-11-23.
             block_size: 16,
             sturm_check: true,
+            slices: 1,
         }
     }
 }
@@ -78,8 +85,10 @@ pub struct Mode {
 pub struct ModalSolution {
     /// Modes, ascending frequency.
     pub modes: Vec<Mode>,
-    /// Shift `sigma` (rad²/s²).
+    /// Shift `sigma` below the spectrum (rad²/s²), the first slice's.
     pub shift: f64,
+    /// The shift of every slice solved (rad²/s²; slices without modes are skipped).
+    pub shifts: Vec<f64>,
     /// Final Krylov basis size.
     pub basis_size: usize,
     /// Block size.
@@ -111,6 +120,8 @@ struct ShiftInvert<'a> {
     m: &'a SparseColMat<usize, f64>,
     symbolic: &'a SymbolicCholesky<usize>,
     l_values: Vec<f64>,
+    /// `L Lᵀ` (shift below the spectrum) or `L D Lᵀ` (shift inside the band).
+    kind: FactorKind,
 }
 
 impl ShiftInvert<'_> {
@@ -127,17 +138,18 @@ impl ShiftInvert<'_> {
         let per_group = cols.div_ceil(groups);
         w.par_chunks_mut(n * per_group).for_each(|chunk| {
             let group_cols = chunk.len() / n;
-            let llt = LltRef::<usize, f64>::new(self.symbolic, &self.l_values);
             let mut mem = MemBuffer::new(
                 self.symbolic
                     .solve_in_place_scratch::<f64>(group_cols, Par::Seq),
             );
-            llt.solve_in_place_with_conj(
-                faer::Conj::No,
-                MatMut::from_column_major_slice_mut(chunk, n, group_cols),
-                Par::Seq,
-                MemStack::new(&mut mem),
-            );
+            let rhs = MatMut::from_column_major_slice_mut(chunk, n, group_cols);
+            let stack = MemStack::new(&mut mem);
+            match self.kind {
+                FactorKind::Llt => LltRef::<usize, f64>::new(self.symbolic, &self.l_values)
+                    .solve_in_place_with_conj(faer::Conj::No, rhs, Par::Seq, stack),
+                FactorKind::Ldlt => LdltRef::<usize, f64>::new(self.symbolic, &self.l_values)
+                    .solve_in_place_with_conj(faer::Conj::No, rhs, Par::Seq, stack),
+            }
         });
     }
 }
@@ -548,7 +560,7 @@ pub fn sturm_count(
 }
 
 /// Which numeric factorisation of a pencil matrix.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum FactorKind {
     /// `L Lᵀ` (positive definite: the shift below the spectrum).
     Llt,
@@ -647,8 +659,49 @@ fn sturm_count_with(
     Ok(negative)
 }
 
+/// One slice of the band and the shift that serves it: the modes with `lambda_lo < w² <=
+/// lambda_hi` from Lanczos on `Op = (K - sigma M)⁻¹ M`, whose eigenvalues are
+/// `theta = 1 / (w² - sigma)`. The slice is `theta >= theta_hi = 1 / (lambda_hi - sigma)`, and,
+/// for a shift inside the band (`lambda_lo < sigma`), also `theta <= theta_lo = 1 / (lambda_lo -
+/// sigma) < 0`: Lanczos converges from both ends of the operator's spectrum at once.
+#[derive(Clone, Copy, Debug)]
+struct Slice {
+    sigma: f64,
+    lambda_lo: f64,
+    lambda_hi: f64,
+}
+
+impl Slice {
+    fn theta_hi(&self) -> f64 {
+        1.0 / (self.lambda_hi - self.sigma)
+    }
+    fn theta_lo(&self) -> f64 {
+        if self.lambda_lo > self.sigma {
+            // unreachable by construction (the first slice's shift is below the spectrum, the
+            // others' inside their slice); an empty negative side
+            f64::NEG_INFINITY
+        } else if self.lambda_lo.is_finite() {
+            1.0 / (self.lambda_lo - self.sigma)
+        } else {
+            f64::NEG_INFINITY
+        }
+    }
+    /// `theta` inside the slice, with a relative margin `rel` (> 0 widens it).
+    fn contains_theta(&self, theta: f64, rel: f64) -> bool {
+        theta >= self.theta_hi() * (1.0 - rel) || theta <= self.theta_lo() * (1.0 - rel)
+    }
+}
+
+/// Lanczos iterations and purification over one slice (see [`solve`]).
+struct SliceResult {
+    modes: Vec<Mode>,
+    basis: usize,
+    blocks: usize,
+}
+
 /// All modes with `f <= fmax_hz` of `K x = w² M x` (K, M: lower triangles, symmetric, M positive
-/// definite, K positive semi-definite), by block shift-invert Lanczos (module docs).
+/// definite, K positive semi-definite), by block shift-invert Lanczos (module docs), over
+/// `opts.slices` slices of the band.
 pub fn solve(
     k: &SparseColMat<usize, f64>,
     m: &SparseColMat<usize, f64>,
@@ -663,6 +716,16 @@ pub fn solve(
             format!("{} must be a finite frequency > 0 Hz", opts.fmax_hz),
         ));
     }
+    if !(1..=MAX_SLICES).contains(&opts.slices) {
+        return Err(Error::input(
+            "command line",
+            "slices",
+            format!(
+                "{} is outside the allowed range 1..={MAX_SLICES}",
+                opts.slices
+            ),
+        ));
+    }
     if n == 0 {
         return Err(Error::Numerical(
             "the model has no free degree of freedom (everything is clamped)".into(),
@@ -671,13 +734,13 @@ pub fn solve(
     let shift_hz = opts.shift_hz.unwrap_or((opts.fmax_hz / 20.0).max(10.0));
     let sigma = -(2.0 * PI * shift_hz).powi(2);
     let lambda_max = (2.0 * PI * opts.fmax_hz).powi(2);
-    let theta_min = 1.0 / (lambda_max - sigma);
     let trace = std::env::var_os("SQUEAL_MODAL_TRACE").is_some();
     if n < DENSE_BELOW_DOFS {
         return solve_dense(k, m, opts, sigma, lambda_max, started);
     }
 
     let a = shifted(k, m, sigma)?;
+    // One symbolic analysis for every shift and Sturm count: `K - s M` has the same pattern.
     let symbolic = symbolic_pencil(&a)?;
     if trace {
         eprintln!(
@@ -686,48 +749,206 @@ pub fn solve(
             symbolic.len_val()
         );
     }
-    // The Sturm count first (same pattern as K - sigma M: the symbolic analysis is reused, and
-    // its factor is freed before the shift-invert one is made): knowing how many modes the band
-    // holds, the iteration stops on the block where the last of them converges.
-    let sturm_count = if opts.sturm_check {
-        let count = sturm_count_with(&shifted(k, m, lambda_max)?, &symbolic)?;
+    // Slice edges equally spaced in frequency: a wheel's mode count grows about linearly with
+    // frequency (plate-like: 73 modes below 5 kHz, 161 below 10 kHz on the 16 mm wheel), so
+    // equal widths hold about equal numbers of modes.
+    let slices = opts.slices;
+    let edges: Vec<f64> = (0..=slices)
+        .map(|i| (2.0 * PI * opts.fmax_hz * i as f64 / slices as f64).powi(2))
+        .collect();
+    // Sturm counts first (the same symbolic analysis; each LDLᵀ is freed before the next
+    // factor is made): with the number of modes in each slice known, each iteration stops on the
+    // block where the last of them converges. Several slices need the counts to partition the
+    // band, so they are taken whatever `sturm_check` says.
+    let counts: Option<Vec<usize>> = if opts.sturm_check || slices > 1 {
+        let mut c = vec![0usize];
+        for &edge in &edges[1..] {
+            c.push(sturm_count_with(&shifted(k, m, edge)?, &symbolic)?);
+        }
         if trace {
             eprintln!(
-                "trace: sturm count {count} at {:.2} s",
+                "trace: sturm counts {c:?} at {:.2} s",
                 started.elapsed().as_secs_f64()
             );
         }
-        if count == 0 {
+        if c[slices] == 0 {
             return Err(Error::Numerical(format!(
                 "no mode below {} Hz (Sturm count 0): raise --fmax-hz",
                 opts.fmax_hz
             )));
         }
-        Some(count)
+        Some(c)
     } else {
         None
     };
-    let l_values = numeric_factor(&a, &symbolic, FactorKind::Llt).map_err(|e| {
-        Error::Numerical(format!(
-            "Cholesky of K - sigma M (sigma = {sigma:.6e}) failed ({e}): K is not positive \
-             semi-definite or M not positive definite (inverted elements? negative density?)"
-        ))
-    })?;
+    let mut factor_seconds = 0.0;
+    let mut modes: Vec<Mode> = Vec::new();
+    let (mut basis_size, mut blocks) = (0, 0);
+    let mut shifts = Vec::with_capacity(slices);
+    for s in 0..slices {
+        let count = counts.as_ref().map(|c| c[s + 1] - c[s]);
+        if count == Some(0) {
+            continue;
+        }
+        // The first slice takes the shift below the spectrum (positive definite, L Lᵀ); the
+        // others one in their middle (indefinite, L D Lᵀ: its inertia is not needed, the edge
+        // counts are taken above).
+        let slice = if s == 0 {
+            Slice {
+                sigma,
+                lambda_lo: f64::NEG_INFINITY,
+                lambda_hi: edges[1],
+            }
+        } else {
+            Slice {
+                sigma: 0.5 * (edges[s] + edges[s + 1]),
+                lambda_lo: edges[s],
+                lambda_hi: edges[s + 1],
+            }
+        };
+        let t0 = Instant::now();
+        let a_slice = if s == 0 {
+            None
+        } else {
+            Some(shifted(k, m, slice.sigma)?)
+        };
+        let kind = if s == 0 {
+            FactorKind::Llt
+        } else {
+            FactorKind::Ldlt
+        };
+        let l_values =
+            numeric_factor(a_slice.as_ref().unwrap_or(&a), &symbolic, kind).map_err(|e| {
+                if s == 0 {
+                    Error::Numerical(format!(
+                        "Cholesky of K - sigma M (sigma = {sigma:.6e}) failed ({e}): K is not \
+                         positive semi-definite or M not positive definite (inverted elements? \
+                         negative density?)"
+                    ))
+                } else {
+                    Error::Numerical(format!(
+                        "LDLᵀ of K - sigma M at the shift of slice {} ({:.1} Hz) failed ({e}): \
+                         the shift lies on an eigenvalue; change --slices",
+                        s + 1,
+                        slice.sigma.sqrt() / (2.0 * PI)
+                    ))
+                }
+            })?;
+        drop(a_slice);
+        factor_seconds += t0.elapsed().as_secs_f64();
+        let op = ShiftInvert {
+            m,
+            symbolic: &symbolic,
+            l_values,
+            kind,
+        };
+        let res = solve_slice(
+            k,
+            m,
+            &op,
+            &slice,
+            count,
+            opts,
+            s,
+            lambda_max.max(sigma.abs()),
+        )?;
+        if trace {
+            eprintln!(
+                "trace: slice {} ({:.1}..{:.1} Hz, shift {:.3e}): {} modes, basis {}, at {:.2} s",
+                s + 1,
+                edges[s].sqrt() / (2.0 * PI),
+                edges[s + 1].sqrt() / (2.0 * PI),
+                slice.sigma,
+                res.modes.len(),
+                res.basis,
+                started.elapsed().as_secs_f64()
+            );
+        }
+        if let Some(count) = count {
+            if count != res.modes.len() {
+                return Err(Error::Numerical(format!(
+                    "the Sturm counts find {count} eigenvalues in {:.1}..{:.1} Hz but Lanczos \
+                     returned {} modes (basis {}, {} blocks of {}): raise the basis limit or \
+                     split the band (--slices)",
+                    edges[s].sqrt() / (2.0 * PI),
+                    edges[s + 1].sqrt() / (2.0 * PI),
+                    res.modes.len(),
+                    res.basis,
+                    res.blocks,
+                    opts.block_size
+                )));
+            }
+        }
+        shifts.push(slice.sigma);
+        basis_size = basis_size.max(res.basis);
+        blocks += res.blocks;
+        modes.extend(res.modes);
+    }
     drop(a);
-    let factor_seconds = started.elapsed().as_secs_f64();
-    let op = ShiftInvert {
-        m,
-        symbolic: &symbolic,
-        l_values,
-    };
+    modes.sort_by(|a, b| a.eigenvalue.total_cmp(&b.eigenvalue));
+    if let Some(bad) = modes
+        .iter()
+        .find(|m| m.residual.is_nan() || m.residual >= opts.residual_tolerance)
+    {
+        return Err(Error::Numerical(format!(
+            "mode at {:.3} Hz has relative residual {:.2e} above the tolerance {:.0e}; \
+             the mesh may be badly conditioned (check element quality) or the band too wide",
+            bad.frequency_hz, bad.residual, opts.residual_tolerance
+        )));
+    }
+    if trace {
+        for md in &modes {
+            eprintln!(
+                "trace: {:.4} Hz residual {:.2e}",
+                md.frequency_hz, md.residual
+            );
+        }
+        eprintln!(
+            "trace: done at {:.2} s (largest basis {basis_size}, {blocks} blocks)",
+            started.elapsed().as_secs_f64()
+        );
+    }
+    Ok(ModalSolution {
+        modes,
+        shift: sigma,
+        shifts,
+        basis_size,
+        block_size: opts.block_size.clamp(1, n),
+        blocks,
+        factor_seconds,
+        solve_seconds: started.elapsed().as_secs_f64(),
+        sturm_count: counts.map(|c| c[slices]),
+    })
+}
 
+/// Most slices of a band (each is a factorisation and a Sturm count).
+pub const MAX_SLICES: usize = 32;
+
+/// Block Lanczos on `op` until the modes of `slice` have converged (`count` of them when the
+/// Sturm counts are known), then purification, Rayleigh quotients and residuals. `rigid_scale`
+/// is the band's stiffness scale for the residual of rigid modes.
+#[allow(clippy::too_many_arguments)]
+fn solve_slice(
+    k: &SparseColMat<usize, f64>,
+    m: &SparseColMat<usize, f64>,
+    op: &ShiftInvert<'_>,
+    slice: &Slice,
+    count: Option<usize>,
+    opts: &ModalOptions,
+    slice_index: usize,
+    rigid_scale: f64,
+) -> Result<SliceResult> {
+    let started = Instant::now();
+    let n = k.nrows();
+    let trace = std::env::var_os("SQUEAL_MODAL_TRACE").is_some();
+    let in_band = |theta: f64| slice.contains_theta(theta, 0.0);
     // Block size: larger than any eigenvalue multiplicity expected (6 rigid modes at w² = 0,
     // pairs for bodies of revolution), and a multi-column solve reads the factor once per
     // block.
     let b = opts.block_size.clamp(1, n);
     // Whole blocks only.
     let max_basis = (opts.max_basis.min(n) / b).max(1) * b;
-    // Relative Ritz residual ||Op x - theta x||_M / theta for "converged": 1e-10 gives final
+    // Relative Ritz residual ||Op x - theta x||_M / |theta| for "converged": 1e-10 gives final
     // residuals below 1.5e-10 after purification on the 102 k dof wheel at 10 kHz (1e-9 gave
     // 9.3e-10, too close to the 1e-8 bound; 1e-11 cost one more block in ten), measured
     // 2026-11-23.
@@ -738,9 +959,10 @@ pub fn solve(
     let mut q: Vec<f64> = Vec::new();
     let mut mq: Vec<f64> = Vec::new();
     let mut h_cols: Vec<Vec<f64>> = Vec::new();
-    let (mut block, mut block_m) = start_block(m, &q, &mq, n, b, 1)?;
-    // Null-direction scale: ||Op v||_M <= 1 / |sigma| for M-normalised v (K semi-definite).
-    let scale = 1.0 / sigma.abs();
+    let (mut block, mut block_m) = start_block(m, &q, &mq, n, b, 1 + 97 * slice_index as u64)?;
+    // Null-direction scale: ||Op v||_M <= 1 / |sigma| for M-normalised v below the spectrum
+    // (K semi-definite); inside it ||Op|| is larger, so this threshold only gets stricter.
+    let scale = 1.0 / slice.sigma.abs().max(1e-300);
     let mut blocks = 0;
     let mut next_check = 2;
     let mut phase_s = [0.0f64; 4]; // solve, orthogonalise, next block, Ritz
@@ -769,7 +991,7 @@ pub fn solve(
                 &mut c,
                 scale,
                 n,
-                blocks as u64 + 7,
+                blocks as u64 + 7 + 1000 * slice_index as u64,
             )?
         };
         phase_s[0] += (t1 - t0).as_secs_f64();
@@ -799,21 +1021,20 @@ pub fn solve(
                 })
                 .collect();
             let conv = |i: usize| est[i] <= ritz_tol * theta[i].abs();
-            let all_in_band = (0..k_dim).filter(|&i| theta[i] >= theta_min).all(conv);
+            let all_in_band = (0..k_dim).filter(|&i| in_band(theta[i])).all(conv);
             // A converged Ritz value past the band edge: the band's Ritz values have passed
-            // theirs (interlacing); the Sturm count below checks that none was missed.
-            let beyond = (0..k_dim).any(|i| theta[i] < theta_min && theta[i] > 0.0 && conv(i));
-            let n_band = (0..k_dim).filter(|&i| theta[i] >= theta_min).count();
-            let n_conv = (0..k_dim)
-                .filter(|&i| theta[i] >= theta_min && conv(i))
-                .count();
+            // theirs (interlacing); only used without a Sturm count (a single slice below the
+            // spectrum, where all theta are positive).
+            let beyond = (0..k_dim).any(|i| !in_band(theta[i]) && theta[i] > 0.0 && conv(i));
+            let n_band = (0..k_dim).filter(|&i| in_band(theta[i])).count();
+            let n_conv = (0..k_dim).filter(|&i| in_band(theta[i]) && conv(i)).count();
             if trace {
                 eprintln!(
                     "trace: {:.2} s basis {k_dim}: {n_conv}/{n_band} in band converged",
                     started.elapsed().as_secs_f64()
                 );
             }
-            let done = match sturm_count {
+            let done = match count {
                 // Exactly the counted modes in the band, all converged.
                 Some(count) => all_in_band && n_band == count,
                 // No count: a converged Ritz value past the band edge means the band's have
@@ -830,15 +1051,18 @@ pub fn solve(
                     break k_dim;
                 }
                 return Err(Error::Numerical(format!(
-                    "block Lanczos did not converge for all modes below {} Hz within {} basis \
-                     vectors; lower --fmax-hz or coarsen the mesh",
-                    opts.fmax_hz, max_basis
+                    "block Lanczos did not converge for all modes in {:.1}..{:.1} Hz within {} \
+                     basis vectors; lower --fmax-hz, coarsen the mesh or split the band \
+                     (--slices)",
+                    slice.lambda_lo.max(0.0).sqrt() / (2.0 * PI),
+                    slice.lambda_hi.sqrt() / (2.0 * PI),
+                    max_basis
                 )));
             }
             // Check again after ~15 % more basis (the dense eigen solve of H costs k³, 0.2 s
             // in all for a 592-vector basis), or on every block once three quarters of the
             // counted modes have converged.
-            let closing = sturm_count.is_some_and(|count| 4 * n_conv >= 3 * count);
+            let closing = count.is_some_and(|count| 4 * n_conv >= 3 * count);
             next_check = if closing {
                 blocks + 1
             } else {
@@ -857,9 +1081,9 @@ pub fn solve(
     // Ritz pairs of the final H.
     let (theta, u) = ritz(&h_cols, dim)?;
     // Ritz vectors in the band, purified by one more application of Op (damps what rounding
-    // left along high modes), Rayleigh quotients, residuals.
+    // left along unwanted modes), Rayleigh quotients, residuals.
     let wanted: Vec<usize> = (0..dim)
-        .filter(|&i| theta[i] >= theta_min * (1.0 - 1e-9))
+        .filter(|&i| slice.contains_theta(theta[i], 1e-9))
         .collect();
     let n_wanted = wanted.len();
     let u_wanted = Mat::<f64>::from_fn(dim, n_wanted, |r, c| u[(r, wanted[c])]);
@@ -874,12 +1098,11 @@ pub fn solve(
         op.apply_block(&mx, &mut y);
     }
     drop(x);
-    let rigid_scale = lambda_max.max(sigma.abs());
     let mut ky = vec![0.0; y.len()];
     let mut my = vec![0.0; y.len()];
     m_block(k, &y, &mut ky);
     m_block(m, &y, &mut my);
-    let mut modes: Vec<Mode> = (0..n_wanted)
+    let modes: Vec<Mode> = (0..n_wanted)
         .into_par_iter()
         .map(|c| {
             let (yc, kyc, myc) = (
@@ -917,53 +1140,12 @@ pub fn solve(
                 vector: yc.iter().map(|v| v / nrm).collect(),
             }
         })
-        .filter(|mode| mode.eigenvalue <= lambda_max)
+        .filter(|mode| mode.eigenvalue > slice.lambda_lo && mode.eigenvalue <= slice.lambda_hi)
         .collect();
-    modes.sort_by(|a, b| a.eigenvalue.total_cmp(&b.eigenvalue));
-    if trace {
-        for md in &modes {
-            eprintln!(
-                "trace: {:.4} Hz residual {:.2e}",
-                md.frequency_hz, md.residual
-            );
-        }
-    }
-    if let Some(bad) = modes
-        .iter()
-        .find(|m| m.residual.is_nan() || m.residual >= opts.residual_tolerance)
-    {
-        return Err(Error::Numerical(format!(
-            "mode at {:.3} Hz has relative residual {:.2e} above the tolerance {:.0e}; \
-             the mesh may be badly conditioned (check element quality) or the band too wide",
-            bad.frequency_hz, bad.residual, opts.residual_tolerance
-        )));
-    }
-    if trace {
-        eprintln!(
-            "trace: lanczos+purify done at {:.2} s (basis {dim}, {blocks} blocks)",
-            started.elapsed().as_secs_f64()
-        );
-    }
-    if let Some(count) = sturm_count {
-        if count != modes.len() {
-            return Err(Error::Numerical(format!(
-                "the Sturm count finds {count} eigenvalues below {} Hz but Lanczos returned {} \
-                 modes (basis {dim}, {blocks} blocks of {b}): raise the basis limit or split the \
-                 band",
-                opts.fmax_hz,
-                modes.len()
-            )));
-        }
-    }
-    Ok(ModalSolution {
+    Ok(SliceResult {
         modes,
-        shift: sigma,
-        basis_size: dim,
-        block_size: b,
+        basis: dim,
         blocks,
-        factor_seconds,
-        solve_seconds: started.elapsed().as_secs_f64(),
-        sturm_count,
     })
 }
 
@@ -1045,6 +1227,7 @@ fn solve_dense(
     Ok(ModalSolution {
         modes,
         shift: sigma,
+        shifts: vec![sigma],
         basis_size: n,
         block_size: 0,
         blocks: 0,

@@ -19,6 +19,11 @@
 //!   coupling `B`; stop on the block where as many Ritz values in the band as the Sturm count
 //!   have converged (without the count: every one in the band and one past it), and check
 //!   that the modes returned match the count;
+//! - spectrum slicing (`ModalOptions::slices` > 1): the band cut into slices equally wide in
+//!   frequency, a Sturm count at every edge, the first slice solved as above and each other one
+//!   with a shift `sigma` in its middle (indefinite `L D Lᵀ`; the slice is `theta >= 1 /
+//!   (w_hi² - sigma)` or `theta <= 1 / (w_lo² - sigma) < 0`, both ends of the operator's
+//!   spectrum), each returning exactly its count;
 //! - models under 200 dofs take a dense solve;
 //! - each Ritz vector is purified by one more application of `Op` (damps the components along
 //!   high modes that rounding leaves), its eigenvalue is the Rayleigh quotient, and its relative
