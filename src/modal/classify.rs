@@ -271,13 +271,29 @@ pub fn classify_modes_points(
             // (asymmetric mesh, ties) stays far below it, distinct modes far above.
             && (modes[i + 1].0 - f).abs() / f.abs().max(1e-300) < 1e-3;
         let members: Vec<usize> = if pair { vec![i, i + 1] } else { vec![i] };
+        // A pair's members are any orthonormal basis of its plane, and the nodal circles are
+        // counted along one meridian: count them on the member combination whose rim motion is
+        // a cosine about theta = 0 (basis independent), not on whichever member came first.
+        let nodal_circles = if pair {
+            let aligned = aligned_pair(
+                nodes,
+                weights,
+                centre,
+                [&modes[i].3, &modes[i + 1].3],
+                c.nodal_diameters,
+                c.family,
+            );
+            classify_shape_points(nodes, weights, centre, &aligned).nodal_circles
+        } else {
+            c.nodal_circles
+        };
         let freq = members.iter().map(|&k| modes[k].0).sum::<f64>() / members.len() as f64;
         let residual = members.iter().map(|&k| modes[k].1).fold(0.0, f64::max);
         out.push(ModeRecord {
             index: out.len(),
             frequency_hz: freq,
             family: if *rigid { ModeFamily::Rigid } else { c.family },
-            nodal_circles: c.nodal_circles,
+            nodal_circles,
             nodal_diameters: c.nodal_diameters,
             residual,
             is_pair: pair,
@@ -289,4 +305,59 @@ pub fn classify_modes_points(
         i += if pair { 2 } else { 1 };
     }
     out
+}
+
+/// The combination `a u_1 + b u_2` (`a² + b² = 1`) of a sin/cos pair with `n` nodal diameters
+/// whose rim motion in the family's component has a real n-th Fourier coefficient
+/// `sum w u e^{-i n theta}`, i.e. is `A cos(n theta)`: a standing wave with an antinode at
+/// theta = 0, the same whichever basis of the pair the solver returned (up to sign).
+fn aligned_pair(
+    nodes: &[[f64; 3]],
+    weights: &[f64],
+    centre: [f64; 3],
+    members: [&[[f64; 3]]; 2],
+    n: u32,
+    family: ModeFamily,
+) -> Vec<[f64; 3]> {
+    let radius = |p: &[f64; 3]| (p[0] - centre[0]).hypot(p[2] - centre[2]);
+    let r_max = nodes.iter().map(radius).fold(0.0, f64::max);
+    // Fourier coefficient of the family component over the rim nodes (as in the n count).
+    let coefficient = |u: &[[f64; 3]]| {
+        let (mut re, mut im) = (0.0, 0.0);
+        for (i, p) in nodes.iter().enumerate() {
+            let r = radius(p);
+            if r <= 0.9 * r_max {
+                continue;
+            }
+            let (c, s) = ((p[0] - centre[0]) / r, (p[2] - centre[2]) / r);
+            let value = match family {
+                ModeFamily::Radial => u[i][0] * c + u[i][2] * s,
+                ModeFamily::Circumferential => -u[i][0] * s + u[i][2] * c,
+                _ => u[i][1],
+            };
+            let a = n as f64 * s.atan2(c);
+            re += weights[i] * value * a.cos();
+            im -= weights[i] * value * a.sin();
+        }
+        (re, im)
+    };
+    let (c1, c2) = (coefficient(members[0]), coefficient(members[1]));
+    // Im(a c1 + b c2) = 0 with (a, b) on the unit circle; of the two signs, the one with a
+    // positive real part.
+    let (mut a, mut b) = (c2.1, -c1.1);
+    let norm = a.hypot(b);
+    if norm <= 0.0 {
+        return members[0].to_vec();
+    }
+    a /= norm;
+    b /= norm;
+    if a * c1.0 + b * c2.0 < 0.0 {
+        a = -a;
+        b = -b;
+    }
+    members[0]
+        .iter()
+        .zip(members[1])
+        .map(|(x, y)| [0, 1, 2].map(|k| a * x[k] + b * y[k]))
+        .collect()
 }
