@@ -357,8 +357,9 @@ fn shipped_case_files_are_valid() {
         load_case(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
         count += 1;
     }
-    // case1..5-demo, case3-medium, case3-ci, creep-curve-demo.
-    assert!(count >= 8, "{count} case files");
+    // case1..5-demo, case1..5-paper, case3-medium, case3-ci, creep-curve-demo, carter-demo,
+    // static-hertz.
+    assert!(count >= 15, "{count} case files");
 }
 
 /// Mean of a column over `from <= t < to` (s).
@@ -505,5 +506,139 @@ fn static_patch_at_1mm_matches_hertz() {
             "{what}: FE {fe} vs Hertz {reference}"
         );
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Carter-like adhesion zone on the FE patch (issue 5, "steady rolling with a prescribed
+/// longitudinal creepage"): `data/scenarios/carter-demo.json` holds the axle at the rolling speed
+/// and spins it at `V (1 + xi) / R` with xi rising 0.03 % per ms (the material crosses the patch
+/// in 0.6 ms: quasi-steady), and snapshots the patch every 3 ms. As the creep force ratio
+/// `r = F_x / (mu N)` grows:
+/// - the adhesion zone (points whose shear is below the traction bound) shrinks, and
+/// - it sits at the leading edge (+x, the direction of travel): its centroid moves ahead of the
+///   pressure centroid and the slip points' centroid lies behind it, as in Carter's theory
+///   (adhesion over the leading `2 a sqrt(1 - r)` of the patch);
+/// - its share of the contact points follows Kalker's exact theory for the same normal and
+///   creep forces (`squeal kalker compare`, an independent solution of the same contact).
+///
+/// Measured 2026-11-23 (demo meshes, 6 mm bands, 4.5 min on 2 cores): r = 0.07 / 0.21 / 0.35 /
+/// 0.51 / 0.64 / 0.76 / 0.86 / 0.92 / 0.95, adhesion share 0.89 / 0.85 / 0.85 / 0.80 / 0.61 /
+/// 0.55 / 0.48 / 0.38 / 0.27 (Kalker 0.95 / 0.88 / 0.79 / 0.68 / 0.57 / 0.45 / 0.34 / 0.24 /
+/// 0.18), adhesion centroid ahead of the pressure centroid by -0.3 / 0.4 / 0.9 / 2.0 / 3.9 / 4.4
+/// / 5.9 / 7.8 / 8.8 mm. Ignored: one demo run is minutes; the snapshot writer and the Kalker
+/// comparison run in the suite on the CI model (whose 10 mm bands leave one or two points along
+/// the patch, too few for a zone).
+#[test]
+#[ignore]
+fn adhesion_zone_sits_at_the_leading_edge_and_shrinks_with_creepage() {
+    use squeal::kalker::snapshot::PatchSnapshot;
+    let loaded = load_case(Path::new("data/scenarios/carter-demo.json")).unwrap();
+    let (record, dir) = run_in_temp(&loaded, "squeal_carter", None);
+    assert_eq!(record.run.status, "completed");
+    let mut files: Vec<_> = std::fs::read_dir(dir.join("patches"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), 9, "{files:?}");
+    // (r, adhesion share, adhesion centroid - pressure centroid (m), slip centroid - pressure
+    // centroid (m), Kalker's adhesion share)
+    let mut rows = Vec::new();
+    for f in &files {
+        let snap: PatchSnapshot =
+            serde_json::from_str(&std::fs::read_to_string(f).unwrap()).unwrap();
+        let loaded_pts: Vec<_> = snap.points.iter().filter(|p| p.pressure_pa > 0.0).collect();
+        let total: f64 = loaded_pts.iter().map(|p| p.pressure_pa).sum();
+        let xc = loaded_pts
+            .iter()
+            .map(|p| p.x_m * p.pressure_pa)
+            .sum::<f64>()
+            / total;
+        let mean_x = |slip: bool| {
+            let xs: Vec<f64> = loaded_pts
+                .iter()
+                .filter(|p| p.slip == slip)
+                .map(|p| p.x_m - xc)
+                .collect();
+            xs.iter().sum::<f64>() / xs.len().max(1) as f64
+        };
+        let adhesion = loaded_pts.iter().filter(|p| !p.slip).count() as f64;
+        let out = dir.join(format!("compare_{}", rows.len()));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_squeal"))
+            .args(["kalker", "compare", "--snapshot"])
+            .arg(f)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let cmp: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("comparison.json")).unwrap())
+                .unwrap();
+        let r = snap.force_x_n / (snap.mu * snap.normal_force_n);
+        rows.push((
+            r,
+            adhesion / loaded_pts.len() as f64,
+            mean_x(false),
+            mean_x(true),
+            cmp["kalker_adhesion_fraction"].as_f64().unwrap(),
+        ));
+    }
+    for (r, share, ahead, behind, kalker) in &rows {
+        eprintln!(
+            "r {r:.3}: adhesion share {share:.2} (Kalker {kalker:.2}), adhesion centroid {:+.1} mm, slip centroid {:+.1} mm",
+            1e3 * ahead,
+            1e3 * behind
+        );
+    }
+    // The ramp spans partial slip up to near saturation.
+    assert!(
+        rows[0].0 < 0.15 && rows[8].0 > 0.85,
+        "r from {} to {}",
+        rows[0].0,
+        rows[8].0
+    );
+    for w in rows.windows(2) {
+        // The creep force grows with the creepage.
+        assert!(w[1].0 > w[0].0, "r not growing: {} then {}", w[0].0, w[1].0);
+        // The zone shrinks: one point (about 0.05 of ~20) of slack for points flickering at
+        // the bound.
+        assert!(
+            w[1].1 <= w[0].1 + 0.05,
+            "adhesion grew: {} then {}",
+            w[0].1,
+            w[1].1
+        );
+        // It moves to the leading edge (0.5 mm slack: a point is 6 mm away from the next).
+        assert!(
+            w[1].2 >= w[0].2 - 5e-4,
+            "adhesion centroid moved back: {} then {}",
+            w[0].2,
+            w[1].2
+        );
+    }
+    assert!(
+        rows[0].1 > 0.8 && rows[8].1 < 0.4,
+        "shares {} .. {}",
+        rows[0].1,
+        rows[8].1
+    );
+    for (r, share, ahead, behind, kalker) in &rows {
+        if *r > 0.3 {
+            // Leading edge adhesion, trailing edge slip (Carter).
+            assert!(*ahead > 0.0 && *behind < 0.0, "r {r}: {ahead} / {behind}");
+        }
+        // Against Kalker's exact theory: 0.2 (measured at most 0.14; one point is 0.05 of the
+        // ~20 FE contact points, and the penalty contact spreads the FE patch over a few more
+        // low-pressure points at its margin, which raises the FE share near saturation).
+        assert!(
+            (share - kalker).abs() < 0.2,
+            "r {r}: FE {share} vs Kalker {kalker}"
+        );
+    }
+    // Near saturation the adhesion zone is in the leading half: its centroid more than 5 mm
+    // ahead (Carter: a (1 - sqrt(1 - r)) = 0.6 a to 0.8 a for r = 0.86-0.95, a about 8-10 mm).
+    assert!(rows[8].2 > 5e-3, "adhesion centroid {} m", rows[8].2);
     let _ = std::fs::remove_dir_all(&dir);
 }

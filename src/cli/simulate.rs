@@ -6,14 +6,27 @@ use clap::Args;
 use squeal::rolling::{load_case, simulate, SimulateOptions};
 use squeal::{Error, Result};
 
-/// The five cases of the paper at the demo resolution (PAPER.md "Simulation cases").
-pub const ALL_CASES: [&str; 5] = [
-    "data/scenarios/case1-demo.json",
-    "data/scenarios/case2-demo.json",
-    "data/scenarios/case3-demo.json",
-    "data/scenarios/case4-demo.json",
-    "data/scenarios/case5-demo.json",
-];
+/// The five cases of the paper (PAPER.md "Simulation cases") at a resolution: the case files
+/// `data/scenarios/case1-<resolution>.json` .. `case5-<resolution>.json`.
+pub fn all_cases(resolution: Resolution) -> Vec<String> {
+    let tag = match resolution {
+        Resolution::Demo => "demo",
+        Resolution::Paper => "paper",
+    };
+    (1..=5)
+        .map(|n| format!("data/scenarios/case{n}-{tag}.json"))
+        .collect()
+}
+
+/// Mesh resolution of `--all-cases`.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum Resolution {
+    /// Demo meshes (data/scenarios/demo.json): a case in a few minutes on 2 cores.
+    Demo,
+    /// The paper's 1 mm contact zone (data/scenarios/paper.json, 546 k elements): hours per
+    /// case on 2 cores.
+    Paper,
+}
 
 /// Arguments of `squeal simulate`.
 #[derive(Args, Debug)]
@@ -21,10 +34,13 @@ pub struct SimulateArgs {
     /// Case file, e.g. data/scenarios/case3-demo.json.
     #[arg(long, required_unless_present = "all_cases")]
     pub scenario: Option<PathBuf>,
-    /// Run the five demo cases (data/scenarios/case1-demo.json .. case5-demo.json), each into
+    /// Run the five cases (data/scenarios/case1-<resolution>.json .. case5-...), each into
     /// OUT/<case name>/.
     #[arg(long, conflicts_with = "scenario")]
     pub all_cases: bool,
+    /// Resolution of --all-cases: `demo` or `paper`.
+    #[arg(long, value_enum, default_value = "demo", requires = "all_cases")]
+    pub resolution: Resolution,
     /// Output directory (the run directory; with --all-cases, the parent of one per case).
     #[arg(long)]
     pub out: PathBuf,
@@ -42,7 +58,7 @@ pub struct SimulateArgs {
 /// Run `squeal simulate`.
 pub fn run(args: SimulateArgs) -> Result<()> {
     let cases: Vec<(PathBuf, PathBuf)> = if args.all_cases {
-        ALL_CASES
+        all_cases(args.resolution)
             .iter()
             .map(|c| {
                 let p = PathBuf::from(c);

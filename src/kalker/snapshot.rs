@@ -160,9 +160,22 @@ pub fn write_comparison_charts(
     let k_pts: Vec<usize> = (0..s.x_m.len())
         .filter(|&k| s.state[k] != ElementState::Exterior)
         .collect();
+    // The FE points are in model coordinates (the patch metres away from the origin), Kalker's
+    // grid about the patch centre: draw the FE points about their pressure centroid, so both
+    // maps show the patch at the same scale.
+    let pressure: f64 = fe_pts
+        .iter()
+        .map(|p| p.pressure_pa)
+        .sum::<f64>()
+        .max(1e-300);
+    let centre = (
+        fe_pts.iter().map(|p| p.x_m * p.pressure_pa).sum::<f64>() / pressure,
+        fe_pts.iter().map(|p| p.y_m * p.pressure_pa).sum::<f64>() / pressure,
+    );
+    let fe_local = |p: &PatchPoint| (p.x_m - centre.0, p.y_m - centre.1);
     for (x, y) in fe_pts
         .iter()
-        .map(|p| (p.x_m, p.y_m))
+        .map(|p| fe_local(p))
         .chain(k_pts.iter().map(|&k| (s.x_m[k], s.y_m[k])))
     {
         lo = (lo.0.min(x), lo.1.min(y));
@@ -177,8 +190,8 @@ pub fn write_comparison_charts(
     };
     let map = |title: String, adhesion: Vec<(f64, f64)>, slip: Vec<(f64, f64)>| LineChart {
         title,
-        x_label: "x, rolling direction (mm)".into(),
-        y_label: "y, lateral (mm)".into(),
+        x_label: "x - x_centre, rolling direction (mm)".into(),
+        y_label: "y - y_centre, lateral (mm)".into(),
         series: vec![
             Series {
                 label: "adhesion".into(),
@@ -209,12 +222,12 @@ pub fn write_comparison_charts(
         fe_pts
             .iter()
             .filter(|p| !p.slip)
-            .map(|p| (p.x_m, p.y_m))
+            .map(|p| fe_local(p))
             .collect(),
         fe_pts
             .iter()
             .filter(|p| p.slip)
-            .map(|p| (p.x_m, p.y_m))
+            .map(|p| fe_local(p))
             .collect(),
     );
     let kal = map(
