@@ -57,6 +57,7 @@ fn line_chart_writes_png_and_svg_with_text() {
     let png_empty = dir.join("e.png");
     write(&empty, Some(&png_empty), None).expect("write empty");
     assert!(bytes.len() > std::fs::metadata(&png_empty).expect("meta").len() as usize + 5000);
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -76,4 +77,5 @@ fn log_axis_skips_non_positive_values() {
         ..Default::default()
     };
     write(&chart, Some(&dir.join("l.png")), None).expect("log chart with zeros and negatives");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -76,6 +76,7 @@ fn expect_input_error(
         assert!(stderr.contains(m), "{tag}: `{m}` missing from: {stderr}");
     }
     assert!(!out.exists(), "{tag}: output written despite the error");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -160,6 +161,7 @@ fn malformed_json_is_reported_with_its_file() {
         .expect("run");
     assert_eq!(result.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&result.stderr).contains("bad.json"));
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -194,6 +196,7 @@ fn mesh_writes_vtu_msh_and_json() {
         serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("parse");
     assert_eq!(q["inverted_elements"], 0);
     assert!(vtu.exists() && msh.exists());
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -60,14 +60,15 @@ fn coarse_wheel_writes_mode_files() {
 
 #[test]
 fn missing_wheel_file_exits_2() {
+    let dir = std::env::temp_dir().join(format!("squeal_cli_modes_missing_{}", std::process::id()));
     let out = Command::new(env!("CARGO_BIN_EXE_squeal"))
         .args([
             "modes",
             "--wheel",
             "data/wheels/no_such_wheel.json",
             "--out",
-            "/tmp/x",
         ])
+        .arg(&dir)
         .output()
         .unwrap();
     assert_eq!(
@@ -76,6 +77,7 @@ fn missing_wheel_file_exits_2() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `--hex8` reaches the assembly of a `--mesh` body, and `incompatible` is the default: a steel
@@ -207,6 +209,7 @@ fn wide_band_wheel_modes_meet_the_residual_bound() {
 /// `--revolved-sectors` outside 3..=512 is refused with the option and the range (exit 2).
 #[test]
 fn revolved_sectors_out_of_range_exits_2() {
+    let dir = std::env::temp_dir().join(format!("squeal_revolved_bad_{}", std::process::id()));
     let out = Command::new(env!("CARGO_BIN_EXE_squeal"))
         .args([
             "modes",
@@ -215,11 +218,8 @@ fn revolved_sectors_out_of_range_exits_2() {
             "--revolved-sectors",
             "2",
             "--out",
-            &std::env::temp_dir()
-                .join("squeal_revolved_bad")
-                .display()
-                .to_string(),
         ])
+        .arg(&dir)
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
@@ -228,6 +228,7 @@ fn revolved_sectors_out_of_range_exits_2() {
         err.contains("--revolved-sectors") && err.contains("3..=512"),
         "{err}"
     );
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The revolved hex27 wheel written to modes.vtu (VTK type 29 cells) read back with `--mesh`

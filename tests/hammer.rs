@@ -3,8 +3,13 @@
 use squeal::hammer::{compare, read_hammer_csv, write_modal_chart};
 use squeal::identify::{ModeFamily, ModeRef};
 
-fn temp_file(name: &str, text: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("squeal-hammer-{}", std::process::id()));
+/// Directory of one test (`tag` names it), unique within this process; the test removes it.
+fn temp_dir(tag: &str) -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("squeal-hammer-{tag}-{}", std::process::id()))
+}
+
+fn temp_file(tag: &str, name: &str, text: &str) -> std::path::PathBuf {
+    let dir = temp_dir(tag);
     std::fs::create_dir_all(&dir).expect("dir");
     let p = dir.join(name);
     std::fs::write(&p, text).expect("write");
@@ -63,12 +68,13 @@ fn malformed_rows_name_file_line_and_column() {
         ("empty.csv", HEADER.to_string(), "no measured modes"),
     ];
     for (name, text, needle) in cases {
-        let path = temp_file(name, &text);
+        let path = temp_file("malformed", name, &text);
         let e = read_hammer_csv(&path).expect_err(name);
         let msg = e.to_string();
         assert!(msg.contains(name) && msg.contains(needle), "{name}: {msg}");
         assert_eq!(e.exit_code(), 2);
     }
+    let _ = std::fs::remove_dir_all(temp_dir("malformed"));
 }
 
 #[test]
@@ -151,7 +157,7 @@ fn measured_modes_pair_with_fe_modes_of_the_same_label() {
         md.contains("| Axial | (0,3) | 1060.0 | 1080.0 | +1.89 |"),
         "{md}"
     );
-    let dir = std::env::temp_dir().join(format!("squeal-hammer-chart-{}", std::process::id()));
+    let dir = temp_dir("chart");
     write_modal_chart(
         &fe,
         Some(&measured),
@@ -161,4 +167,5 @@ fn measured_modes_pair_with_fe_modes_of_the_same_label() {
     .expect("chart");
     let svg = std::fs::read_to_string(dir.join("m.svg")).expect("svg");
     assert!(svg.contains("measured") && svg.contains("FE") && svg.contains("nodal diameters"));
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -100,6 +100,7 @@ fn lateral_peaks_get_axial_labels_and_a_stray_peak_stays_unexplained() {
     }
     let d = by_freq[1].difference_percent.expect("difference");
     assert!((d - 100.0 * (1060.0 - 1050.0) / 1050.0).abs() < 0.05, "{d}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -127,6 +128,7 @@ fn vertical_signal_sees_radial_modes_only() {
         Some((ModeFamily::Radial, "(0,2)".to_string()))
     );
     assert!(ids[1].mode.is_none());
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -206,6 +208,8 @@ fn check_modes_passes_and_fails_with_reasons() {
         "| dominant frequency (Hz) | modal frequency (Hz) | mode | family | difference (%) |"
     ));
     assert!(out.join("identification.csv").exists() && out.join("identification.json").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&out);
 }
 
 #[test]
@@ -243,4 +247,6 @@ fn check_modes_bad_input_exits_2() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("no histories.csv"));
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&empty);
 }

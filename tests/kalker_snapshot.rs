@@ -70,6 +70,7 @@ fn round_trip_recovers_creepages_and_orientation() {
     std::fs::create_dir_all(&dir).expect("dir");
     write_comparison_charts(&snap, &cmp, &dir).expect("charts");
     assert!(dir.join("patch_fe.png").exists() && dir.join("patch_kalker.svg").exists());
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -135,4 +136,5 @@ fn compare_command_writes_maps_and_rejects_bad_snapshots() {
     let b = run(&bad_path);
     assert_eq!(b.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&b.stderr).contains("bad.json"));
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -15,8 +15,13 @@ fn small_wheel() -> Mesh {
     wheel_mesh(&spec, None, &WheelPlacement::default())
 }
 
-fn temp(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("squeal-io-{}", std::process::id()));
+/// Directory of one test (`tag` names it), unique within this process; the test removes it.
+fn temp_dir(tag: &str) -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("squeal-io-{tag}-{}", std::process::id()))
+}
+
+fn temp(tag: &str, name: &str) -> std::path::PathBuf {
+    let dir = temp_dir(tag);
     std::fs::create_dir_all(&dir).expect("temp dir");
     dir.join(name)
 }
@@ -24,7 +29,7 @@ fn temp(name: &str) -> std::path::PathBuf {
 #[test]
 fn vtu_round_trip() {
     let mesh = small_wheel();
-    let path = temp("wheel.vtu");
+    let path = temp("vtu", "wheel.vtu");
     let shape: Vec<[f64; 3]> = mesh
         .nodes
         .iter()
@@ -65,12 +70,13 @@ fn vtu_round_trip() {
     let s = &back.point_data["shape"];
     assert_eq!(s.len(), 3 * mesh.nodes.len());
     assert_eq!(s[4], 2.0 * mesh.nodes[1][1]);
+    let _ = std::fs::remove_dir_all(temp_dir("vtu"));
 }
 
 #[test]
 fn gmsh_round_trip() {
     let mesh = small_wheel();
-    let path = temp("wheel.msh");
+    let path = temp("gmsh", "wheel.msh");
     gmsh::write(&mesh, &path).expect("write");
     let back = gmsh::read(&path).expect("read");
     assert_eq!(back.nodes.len(), mesh.nodes.len());
@@ -92,6 +98,7 @@ fn gmsh_round_trip() {
         mesh.surfaces.values().map(|f| f.len()).sum::<usize>()
     );
     assert!(back.physical_names.values().any(|n| n == "tread"));
+    let _ = std::fs::remove_dir_all(temp_dir("gmsh"));
 }
 
 #[test]
@@ -104,7 +111,7 @@ fn writers_refuse_inverted_meshes() {
     assert_eq!(q.inverted_elements, 1);
     assert_eq!(q.first_inverted_element, Some(0));
     for name in ["bad.vtu", "bad.msh"] {
-        let path = temp(name);
+        let path = temp("inverted", name);
         let _ = std::fs::remove_file(&path);
         let err = if name.ends_with("vtu") {
             vtu::write(&mesh, &path, &[])
@@ -115,19 +122,21 @@ fn writers_refuse_inverted_meshes() {
         assert!(msg.contains("non-positive corner Jacobian"), "{msg}");
         assert!(!path.exists(), "no file may be written");
     }
+    let _ = std::fs::remove_dir_all(temp_dir("inverted"));
 }
 
 #[test]
 fn readers_report_malformed_files() {
-    let path = temp("broken.msh");
+    let path = temp("malformed", "broken.msh");
     std::fs::write(&path, "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n").expect("write");
     let msg = gmsh::read(&path).expect_err("old format").to_string();
     assert!(
         msg.contains("MSH 4.1") && msg.contains("broken.msh"),
         "{msg}"
     );
-    let path = temp("broken.vtu");
+    let path = temp("malformed", "broken.vtu");
     std::fs::write(&path, "<VTKFile><UnstructuredGrid><Piece><Points><DataArray type=\"Float64\" format=\"binary\">@@@@</DataArray></Points></Piece></UnstructuredGrid></VTKFile>").expect("write");
     let msg = vtu::read(&path).expect_err("bad base64").to_string();
     assert!(msg.contains("base64"), "{msg}");
+    let _ = std::fs::remove_dir_all(temp_dir("malformed"));
 }

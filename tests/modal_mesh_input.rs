@@ -15,8 +15,13 @@ use squeal::mesh::cuboid;
 use squeal::mesh::volume::{self, VolumeElement, VolumeMesh};
 use squeal::modal::{solve, ModalOptions};
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("squeal_mesh_input_{}", std::process::id()));
+/// Directory of one test (`tag` names it), unique within this process; the test removes it.
+fn tmp_dir(tag: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("squeal_mesh_input_{tag}_{}", std::process::id()))
+}
+
+fn tmp(tag: &str, name: &str) -> PathBuf {
+    let d = tmp_dir(tag);
     std::fs::create_dir_all(&d).unwrap();
     d.join(name)
 }
@@ -310,7 +315,7 @@ fn readers_agree_and_convert_gmsh_order() {
     }
     vtk.push_str("9 9 9\n"); // an unused point: dropped on reading
     vtk.push_str("CELLS 2 14\n10 0 1 2 3 4 5 6 7 8 9\n2 0 1\nCELL_TYPES 2\n24\n3\nCELL_DATA 2\nSCALARS material int 1\nLOOKUP_TABLE default\n7 7\n");
-    let fv = tmp("one.vtk");
+    let fv = tmp("readers", "one.vtk");
     write(&fv, &vtk);
     let m = volume::read(&fv).unwrap();
     assert_eq!(m.nodes.len(), 10);
@@ -335,7 +340,7 @@ fn readers_agree_and_convert_gmsh_order() {
 </Cells></Piece></UnstructuredGrid></VTKFile>
 "#
     );
-    let fu = tmp("one.vtu");
+    let fu = tmp("readers", "one.vtu");
     write(&fu, &vtu);
     let mu = volume::read(&fu).unwrap();
     assert_eq!(mu.elements, m.elements);
@@ -350,7 +355,7 @@ fn readers_agree_and_convert_gmsh_order() {
         msh.push_str(&format!("{} {} {}\n", q[0], q[1], q[2]));
     }
     msh.push_str("$EndNodes\n$Elements\n1 1 1 1\n3 5 11 1\n1 1 2 3 4 5 6 7 8 10 9\n$EndElements\n");
-    let fg = tmp("one.msh");
+    let fg = tmp("readers", "one.msh");
     write(&fg, &msh);
     let mg = volume::read(&fg).unwrap();
     assert_eq!(
@@ -372,10 +377,11 @@ fn readers_agree_and_convert_gmsh_order() {
     assert!(volume::parse_box_expression("x=1").is_err());
     assert!(volume::parse_box_expression("x<abc").is_err());
     assert!(volume::parse_box_expression("").is_err());
+    let _ = std::fs::remove_dir_all(tmp_dir("readers"));
 }
 
 fn read_err(name: &str, text: &str) -> String {
-    let f = tmp(name);
+    let f = tmp("errors", name);
     write(&f, text);
     let e = volume::read(&f).expect_err("must fail");
     assert_eq!(e.exit_code(), 2, "{e}");
@@ -430,6 +436,7 @@ fn reader_errors_name_file_line_and_problem() {
     assert!(e.contains("t.msh") && e.contains("end of file"), "{e}");
     let e = read_err("u.xyz", "");
     assert!(e.contains("extension"), "{e}");
+    let _ = std::fs::remove_dir_all(tmp_dir("errors"));
 }
 
 #[test]
@@ -446,7 +453,7 @@ fn matrix_market_round_trip_is_exact() {
     )
     .unwrap();
     for (mat, name) in [(&a.k, "K.mtx"), (&a.m, "M.mtx")] {
-        let f = tmp(name);
+        let f = tmp("mtx", name);
         write_matrix_market(mat, &f).unwrap();
         let b = read_matrix_market(&f).unwrap();
         // 17 significant digits round-trip every f64 exactly
@@ -454,7 +461,7 @@ fn matrix_market_round_trip_is_exact() {
         assert_eq!(b.symbolic().row_idx(), mat.symbolic().row_idx());
         assert_eq!(b.val(), mat.val());
     }
-    let f = tmp("bad.mtx");
+    let f = tmp("mtx", "bad.mtx");
     write(
         &f,
         "%%MatrixMarket matrix coordinate real symmetric\n2 2 2\n1 1 1.0\n3 1 2.0\n",
@@ -467,12 +474,13 @@ fn matrix_market_round_trip_is_exact() {
     );
     let e = read_matrix_market(&f).unwrap_err().to_string();
     assert!(e.contains("truncated"), "{e}");
+    let _ = std::fs::remove_dir_all(tmp_dir("mtx"));
 }
 
 #[test]
 fn bench_modal_matches_modes_on_exported_wheel_and_mesh_cli_runs() {
-    let out = tmp("wheel");
-    let mtx = tmp("mtx");
+    let out = tmp("bench", "wheel");
+    let mtx = tmp("bench", "mtx");
     let st = Command::new(env!("CARGO_BIN_EXE_squeal"))
         .args([
             "modes",
@@ -546,9 +554,9 @@ fn bench_modal_matches_modes_on_exported_wheel_and_mesh_cli_runs() {
     }
     // --mesh with a tet10 block clamped at one end: runs, writes the files; bad clamp is exit 2
     let tet = tet10_box([4, 2, 2], [0.4, 0.1, 0.1]);
-    let vf = tmp("block.vtu");
+    let vf = tmp("bench", "block.vtu");
     squeal::mesh::vtu::write_volume(&tet, &vf, &[]).unwrap();
-    let mout = tmp("block_out");
+    let mout = tmp("bench", "block_out");
     let st = Command::new(env!("CARGO_BIN_EXE_squeal"))
         .args(["modes", "--fmax-hz", "3000", "--clamp", "x<0.001", "--mesh"])
         .arg(&vf)
@@ -590,4 +598,5 @@ fn bench_modal_matches_modes_on_exported_wheel_and_mesh_cli_runs() {
             "{bad}"
         );
     }
+    let _ = std::fs::remove_dir_all(tmp_dir("bench"));
 }

@@ -115,6 +115,7 @@ fn report_has_every_section_and_file() {
     // The mode table identifies the (0,3) peak of the lateral vibration.
     assert!(md.contains("| (0,3) | Axial |"), "{md}");
     assert!(md.contains("wall_time_s"));
+    let _ = std::fs::remove_dir_all(&root);
 }
 
 #[test]
@@ -125,4 +126,5 @@ fn report_without_histories_is_an_input_error() {
         .expect_err("no histories");
     assert!(e.to_string().contains("histories.csv"));
     assert_eq!(e.exit_code(), 2);
+    let _ = std::fs::remove_dir_all(&root);
 }
