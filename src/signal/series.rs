@@ -133,6 +133,7 @@ mod tests {
     fn reads_column_and_sample_rate() {
         let path = write_temp("ok.csv", "time_s,uy_m\n0.0,1\n0.001,2\n0.002,3\n");
         let series = TimeSeries::from_csv(&path, "uy_m").unwrap();
+        let _ = std::fs::remove_file(&path);
         assert!((series.sample_rate_hz - 1000.0).abs() < 1e-9);
         assert_eq!(series.values, vec![1.0, 2.0, 3.0]);
     }
@@ -141,6 +142,7 @@ mod tests {
     fn missing_column_lists_available_columns() {
         let path = write_temp("cols.csv", "time_s,uy_m,uz_m\n0,1,2\n1,2,3\n");
         let err = TimeSeries::from_csv(&path, "ux_m").unwrap_err();
+        let _ = std::fs::remove_file(&path);
         assert_eq!(err.exit_code(), 2);
         let text = err.to_string();
         assert!(
@@ -160,12 +162,12 @@ mod tests {
     fn non_uniform_time_is_an_input_error() {
         let path = write_temp("nonuni.csv", "time_s,a\n0,1\n1,2\n2.01,3\n3,4\n");
         let err = TimeSeries::from_csv(&path, "a").unwrap_err();
+        let _ = std::fs::remove_file(&path);
         assert_eq!(err.exit_code(), 2);
         assert!(err.to_string().contains("not uniformly sampled"), "{err}");
         let path = write_temp("bad.csv", "time_s,a\n0,1\n1,x\n");
-        assert!(TimeSeries::from_csv(&path, "a")
-            .unwrap_err()
-            .to_string()
-            .contains("line 3"));
+        let err = TimeSeries::from_csv(&path, "a").unwrap_err();
+        let _ = std::fs::remove_file(&path);
+        assert!(err.to_string().contains("line 3"), "{err}");
     }
 }
