@@ -361,10 +361,51 @@ fn run_mesh(args: &ModesArgs, clamp: ClampChoice) -> Result<()> {
             vec!["clamp_box".to_string()]
         }
     };
+    let count = |vtk_type: u8| {
+        mesh.elements
+            .iter()
+            .filter(|e| e.vtk_type() == vtk_type)
+            .count()
+    };
+    let summary = format!(
+        "{} nodes, {} elements ({} hex8, {} tet10, {} hex27), volume {:.6e} m³",
+        mesh.nodes.len(),
+        mesh.elements.len(),
+        count(12),
+        count(24),
+        count(29),
+        mesh.volume(),
+    );
+    // Classified about the y-parallel axis (ARCHITECTURE.md: the wheel axis is y) through the
+    // volume centroid; for a body that is not a wheel the labels are only descriptive.
+    let centre = mesh.centroid();
+    solve_volume(
+        args,
+        &mesh,
+        material,
+        clamped_sets,
+        centre,
+        &summary,
+        started,
+    )
+}
+
+/// The common end of `--mesh` and `--revolved-sectors`: assemble the volume mesh (one
+/// material), print `summary`, export K and M if asked, solve the band, classify about the
+/// y-parallel axis through `centre` and write the outputs.
+fn solve_volume(
+    args: &ModesArgs,
+    mesh: &volume::VolumeMesh,
+    material: ElasticMaterial,
+    clamped_sets: Vec<String>,
+    centre: [f64; 3],
+    summary: &str,
+    started: std::time::Instant,
+) -> Result<()> {
     let materials: BTreeMap<u32, ElasticMaterial> =
         mesh.material.iter().map(|&id| (id, material)).collect();
     let asm = assemble_volume(
-        &mesh,
+        mesh,
         &materials,
         &Constraints {
             clamped_sets,
@@ -373,20 +414,8 @@ fn run_mesh(args: &ModesArgs, clamp: ClampChoice) -> Result<()> {
         MassKind::Consistent,
         args.hex8.into(),
     )?;
-    let count = |vtk_type: u8| {
-        mesh.elements
-            .iter()
-            .filter(|e| e.vtk_type() == vtk_type)
-            .count()
-    };
     println!(
-        "mesh: {} nodes, {} elements ({} hex8, {} tet10, {} hex27), volume {:.6e} m³, {} dofs after constraints (assembled in {:.2} s)",
-        mesh.nodes.len(),
-        mesh.elements.len(),
-        count(12),
-        count(24),
-        count(29),
-        mesh.volume(),
+        "mesh: {summary}, {} dofs after constraints (assembled in {:.2} s)",
         asm.n_reduced,
         started.elapsed().as_secs_f64()
     );
@@ -394,13 +423,10 @@ fn run_mesh(args: &ModesArgs, clamp: ClampChoice) -> Result<()> {
         export_matrices(&asm, dir)?;
     }
     let sol = solve_band(args, &asm)?;
-    // Classified about the y-parallel axis (ARCHITECTURE.md: the wheel axis is y) through the
-    // volume centroid; for a body that is not a wheel the labels are only descriptive.
-    let c = mesh.centroid();
     let shapes = shapes_of(&sol, &asm);
-    let records = classify_modes_points(&mesh.nodes, &mesh.nodal_weights(), c, &shapes);
+    let records = classify_modes_points(&mesh.nodes, &mesh.nodal_weights(), centre, &shapes);
     write_outputs(args, &sol, &shapes, &records, |fields| {
-        vtu::write_volume(&mesh, &args.out.join("modes.vtu"), fields)
+        vtu::write_volume(mesh, &args.out.join("modes.vtu"), fields)
     })
 }
 
@@ -450,37 +476,23 @@ fn run_revolved(
         poisson_ratio: spec.material.poisson_ratio,
         density_kg_per_m3: spec.material.density_kg_per_m3,
     };
-    let materials: BTreeMap<u32, ElasticMaterial> =
-        mesh.material.iter().map(|&id| (id, steel)).collect();
-    let asm = assemble_volume(
-        &mesh,
-        &materials,
-        &Constraints {
-            clamped_sets,
-            ties: false,
-        },
-        MassKind::Consistent,
-        args.hex8.into(),
-    )?;
-    println!(
-        "mesh: Q9 section of {} elements revolved into {} sectors: {} nodes, {} hex27, {} dofs after constraints (assembled in {:.2} s)",
+    let summary = format!(
+        "Q9 section of {} elements revolved into {} sectors: {} nodes, {} hex27",
         model.mesh.elements.len(),
         sectors,
         mesh.nodes.len(),
         mesh.elements.len(),
-        asm.n_reduced,
-        started.elapsed().as_secs_f64()
     );
-    if let Some(dir) = &args.export_mtx {
-        export_matrices(&asm, dir)?;
-    }
-    let sol = solve_band(args, &asm)?;
     // The axis of revolution is the y axis through the origin (see `revolve_hex27`).
-    let shapes = shapes_of(&sol, &asm);
-    let records = classify_modes_points(&mesh.nodes, &mesh.nodal_weights(), [0.0; 3], &shapes);
-    write_outputs(args, &sol, &shapes, &records, |fields| {
-        vtu::write_volume(&mesh, &args.out.join("modes.vtu"), fields)
-    })
+    solve_volume(
+        args,
+        &mesh,
+        steel,
+        clamped_sets,
+        [0.0; 3],
+        &summary,
+        started,
+    )
 }
 
 fn write_outputs(

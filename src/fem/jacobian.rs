@@ -59,3 +59,16 @@ pub fn inverse(j: &[[f64; 3]; 3], det: f64) -> [[f64; 3]; 3] {
         ],
     ]
 }
+
+/// Volume `sum_g det J(xi_g) w_g` of an `N`-node element by a quadrature `rule` (points, weights),
+/// with `reference_gradients(xi)` the shape functions' reference derivatives; negative or zero
+/// for an inverted element.
+pub fn volume_by_rule<const N: usize>(
+    x: &[P3; N],
+    rule: &[([f64; 3], f64)],
+    reference_gradients: impl Fn([f64; 3]) -> [[f64; 3]; N],
+) -> f64 {
+    rule.iter()
+        .map(|&(xi, w)| jacobian(x, &reference_gradients(xi)).1 * w)
+        .sum()
+}

@@ -676,11 +676,9 @@ impl Slice {
         1.0 / (self.lambda_hi - self.sigma)
     }
     fn theta_lo(&self) -> f64 {
-        if self.lambda_lo > self.sigma {
-            // unreachable by construction (the first slice's shift is below the spectrum, the
-            // others' inside their slice); an empty negative side
-            f64::NEG_INFINITY
-        } else if self.lambda_lo.is_finite() {
+        // The first slice has no lower edge (and its shift lies below the spectrum): no
+        // negative side.
+        if self.lambda_lo.is_finite() && self.lambda_lo < self.sigma {
             1.0 / (self.lambda_lo - self.sigma)
         } else {
             f64::NEG_INFINITY
@@ -716,16 +714,7 @@ pub fn solve(
             format!("{} must be a finite frequency > 0 Hz", opts.fmax_hz),
         ));
     }
-    if !(1..=MAX_SLICES).contains(&opts.slices) {
-        return Err(Error::input(
-            "command line",
-            "slices",
-            format!(
-                "{} is outside the allowed range 1..={MAX_SLICES}",
-                opts.slices
-            ),
-        ));
-    }
+    check_slices(opts.slices)?;
     if n == 0 {
         return Err(Error::Numerical(
             "the model has no free degree of freedom (everything is clamped)".into(),
@@ -923,6 +912,19 @@ pub fn solve(
 
 /// Most slices of a band (each is a factorisation and a Sturm count).
 pub const MAX_SLICES: usize = 32;
+
+/// The number of slices is in `1..=MAX_SLICES` (checked by [`solve`]; the command line checks it
+/// before any work).
+pub fn check_slices(slices: usize) -> Result<()> {
+    if !(1..=MAX_SLICES).contains(&slices) {
+        return Err(Error::input(
+            "command line",
+            "--slices",
+            format!("{slices} is outside the allowed range 1..={MAX_SLICES}"),
+        ));
+    }
+    Ok(())
+}
 
 /// Block Lanczos on `op` until the modes of `slice` have converged (`count` of them when the
 /// Sturm counts are known), then purification, Rayleigh quotients and residuals. `rigid_scale`
