@@ -504,18 +504,21 @@ fn bench_modal_matches_modes_on_exported_wheel_and_mesh_cli_runs() {
         .output()
         .unwrap();
     assert!(bench.status.success());
-    // An impossible block size is refused, naming the option and its range, exit code 2.
-    let refused = Command::new(env!("CARGO_BIN_EXE_squeal"))
-        .args(["bench", "modal", "--block-size", "0", "--mtx"])
-        .arg(&mtx)
-        .output()
-        .unwrap();
-    let message = String::from_utf8_lossy(&refused.stderr);
-    assert_eq!(refused.status.code(), Some(2), "{message}");
-    assert!(
-        message.contains("--block-size") && message.contains("1..=64"),
-        "{message}"
-    );
+    // An impossible block size or slice count is refused, naming the option and its range,
+    // exit code 2.
+    for (option, value, range) in [("--block-size", "0", "1..=64"), ("--slices", "0", "1..=32")] {
+        let refused = Command::new(env!("CARGO_BIN_EXE_squeal"))
+            .args(["bench", "modal", option, value, "--mtx"])
+            .arg(&mtx)
+            .output()
+            .unwrap();
+        let message = String::from_utf8_lossy(&refused.stderr);
+        assert_eq!(refused.status.code(), Some(2), "{message}");
+        assert!(
+            message.contains(option) && message.contains(range),
+            "{message}"
+        );
+    }
     let text = String::from_utf8_lossy(&bench.stdout);
     let freqs: Vec<f64> = text
         .lines()

@@ -54,6 +54,7 @@ fn modal(a: ModalBenchArgs) -> Result<()> {
             format!("{} is outside the allowed range 1..=64", a.block_size),
         ));
     }
+    squeal::modal::lanczos::check_slices(a.slices)?;
     let started = std::time::Instant::now();
     let k = read_matrix_market(&a.mtx.join("K.mtx"))?;
     let m = read_matrix_market(&a.mtx.join("M.mtx"))?;

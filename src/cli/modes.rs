@@ -120,6 +120,7 @@ pub fn run(args: ModesArgs) -> Result<()> {
             format!("{} is outside the allowed range (0, 1e6] Hz", args.fmax_hz),
         ));
     }
+    squeal::modal::lanczos::check_slices(args.slices)?;
     let clamp = parse_clamp(&args.clamp)?;
     let Some(wheel) = args.wheel.clone() else {
         return run_mesh(&args, clamp);
