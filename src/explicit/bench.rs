@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use super::element::{ElasticMaterial, Formulation, OnePointElement};
+use super::element::{ElasticMaterial, Formulation};
 use super::model::Model;
 use super::solver::Solver;
 use crate::mesh::cuboid;
@@ -99,7 +99,7 @@ pub fn element_throughput(
         let element_seconds = start.elapsed().as_secs_f64();
         let n_el = solver.model.elements.len();
         let n_nodes = solver.u.len();
-        let element_bytes = std::mem::size_of::<OnePointElement>() as f64;
+        let element_bytes = solver.element_bytes_per_step() as f64;
         // Per node per step: u (24 B read + write), v (24 + 24), f_int (24 zero + 24 read),
         // f_aux (24 zero + 24 read), mass and inverse mass (16), role (1).
         let node_bytes = 24.0 * 8.0 + 17.0;

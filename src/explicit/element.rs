@@ -269,15 +269,40 @@ pub fn lumped_masses(x: &[P3; 8], density_kg_per_m3: f64) -> Option<[f64; 8]> {
     Some(m)
 }
 
-/// Data of one one-point element, laid out for the kernel (352 bytes).
+/// Rounds to the nearest single-precision number (kept as f64).
+fn single(x: f64) -> f64 {
+    x as f32 as f64
+}
+
+/// Data of one one-point element.
+///
+/// Single-precision geometry: the fast kernel ([`super::batch`]) streams every element's data
+/// from memory once per step and is bound by the bytes moved, so it stores the gradients, the
+/// hourglass axes and the coefficients as f32 (as LS-DYNA's default single-precision build
+/// does). They are rounded here, so that this (reference) element and the batched kernel use
+/// identical values. Rounding must not break the invariances the issue asks for exactly:
+/// - translation: the last gradient is minus the sum of the others, so `sum_a b_a = 0` holds to
+///   f64 rounding (the wheelset travels more than a metre);
+/// - rotation: with rounded gradients `F0 = sum_a X_a b_a^T` differs from I by ~1e-7, so the
+///   strain is measured from F0, `E = (F^T F - F0^T F0) / 2` with `F = F0 + H` (total
+///   Lagrangian St. Venant-Kirchhoff about the reference F0), and the hourglass vectors use
+///   `F0^-1 sum_b h_alpha,b X_b` in f64: a rigid rotation of any angle then gives zero strain
+///   and zero hourglass displacement to f64 rounding.
+///
+/// What the rounding does cost is a perturbation of ~1e-7 of the element's stiffness (its
+/// gradients and coefficients), far below discretisation and material uncertainties.
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
 pub struct OnePointElement {
     /// Nodes (VTK order).
     pub nodes: [u32; 8],
-    /// Mean gradient `b_a = (1/V) integral(dN_a/dX dV)`: rows x, y, z.
+    /// Mean gradient `b_a = (1/V) integral(dN_a/dX dV)` rounded to single precision, rows x, y,
+    /// z; `b_7 = -(b_0 + ... + b_6)` summed in that order in f64.
     pub grad: [[f64; 8]; 3],
-    /// `sum_b h_alpha,b X_b` per hourglass mode.
+    /// `F0 - I`, `F0 = sum_a X_a b_a^T` with the stored gradients (~1e-7), rounded to single
+    /// precision.
+    pub stretch_delta: [[f64; 3]; 3],
+    /// `F0^-1 sum_b h_alpha,b X_b` per hourglass mode (f64).
     pub hourglass_ref: [[f64; 3]; 4],
     /// `lambda * V0` (N m).
     pub lambda_vol: f64,
@@ -327,12 +352,47 @@ impl OnePointElement {
         if !(volume > 0.0) || !(det_centre > 0.0) {
             return None;
         }
+        // Single-precision gradients, the last one closing the sum (see the struct doc).
+        for row in grad.iter_mut() {
+            let mut sum = 0.0;
+            for g in row.iter_mut().take(7) {
+                *g = single(*g);
+                sum += *g;
+            }
+            row[7] = 0.0 - sum;
+        }
+        let mut stretch_ref = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                for a in 0..8 {
+                    stretch_ref[i][j] += x[a][i] * grad[j][a];
+                }
+            }
+        }
+        let det_stretch = det3(&stretch_ref);
+        if !(det_stretch > 0.0) {
+            return None;
+        }
+        let stretch_inv = inverse3(&stretch_ref, det_stretch);
+        let mut stretch_delta = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                let identity = if i == j { 1.0 } else { 0.0 };
+                stretch_delta[i][j] = single(stretch_ref[i][j] - identity);
+            }
+        }
         let mut hourglass_ref = [[0.0; 3]; 4];
         for (alpha, h) in HOURGLASS_BASE.iter().enumerate() {
+            let mut hx = [0.0; 3];
             for a in 0..8 {
                 for j in 0..3 {
-                    hourglass_ref[alpha][j] += h[a] * x[a][j];
+                    hx[j] += h[a] * x[a][j];
                 }
+            }
+            for i in 0..3 {
+                hourglass_ref[alpha][i] = stretch_inv[i][0] * hx[0]
+                    + stretch_inv[i][1] * hx[1]
+                    + stretch_inv[i][2] * hx[2];
             }
         }
         let (lambda, mu) = (mat.lambda_pa(), mat.mu_pa());
@@ -385,12 +445,13 @@ impl OnePointElement {
         Some(OnePointElement {
             nodes: nodes.map(|n| n as u32),
             grad,
+            stretch_delta,
             hourglass_ref,
-            lambda_vol: lambda * volume,
-            two_mu_vol: 2.0 * mu * volume,
-            hourglass_coef,
-            hourglass_axis_coef,
-            axes_ref,
+            lambda_vol: single(lambda * volume),
+            two_mu_vol: single(2.0 * mu * volume),
+            hourglass_coef: single(hourglass_coef),
+            hourglass_axis_coef: hourglass_axis_coef.map(|r| r.map(single)),
+            axes_ref: axes_ref.map(|r| r.map(single)),
             volume_m3: volume,
         })
     }
@@ -411,14 +472,27 @@ pub struct ElementEnergy {
 #[inline(always)]
 fn strain_and_stress(
     h: &[[f64; 3]; 3],
+    delta: &[[f64; 3]; 3],
     lambda: f64,
     two_mu: f64,
 ) -> ([[f64; 3]; 3], [[f64; 3]; 3]) {
+    // E = (F^T F - F0^T F0) / 2 with F = F0 + H, F0 = I + delta:
+    //   E = (H + H^T) / 2 + (K^T H + H^T K) / 2, K = delta + H / 2,
+    // written in H so that a small strain is not the difference of two numbers near 1.
+    let mut k = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            k[i][j] = delta[i][j] + 0.5 * h[i][j];
+        }
+    }
     let mut e = [[0.0; 3]; 3];
     for i in 0..3 {
         for j in 0..3 {
-            e[i][j] = 0.5
-                * (h[i][j] + h[j][i] + h[0][i] * h[0][j] + h[1][i] * h[1][j] + h[2][i] * h[2][j]);
+            let mut acc = h[i][j] + h[j][i];
+            for m in 0..3 {
+                acc += k[m][i] * h[m][j] + h[m][i] * k[m][j];
+            }
+            e[i][j] = 0.5 * acc;
         }
     }
     let tr = e[0][0] + e[1][1] + e[2][2];
@@ -432,12 +506,13 @@ fn strain_and_stress(
     (e, s)
 }
 
+/// First Piola-Kirchhoff stress `P = F S` with `F = I + d`.
 #[inline(always)]
-fn first_piola(h: &[[f64; 3]; 3], s: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+fn first_piola(d: &[[f64; 3]; 3], s: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     let mut p = [[0.0; 3]; 3];
     for i in 0..3 {
         for j in 0..3 {
-            p[i][j] = s[i][j] + h[i][0] * s[0][j] + h[i][1] * s[1][j] + h[i][2] * s[2][j];
+            p[i][j] = s[i][j] + d[i][0] * s[0][j] + d[i][1] * s[1][j] + d[i][2] * s[2][j];
         }
     }
     p
@@ -483,7 +558,14 @@ pub fn one_point_forces<const ENERGY: bool>(
             h[i][j] = acc;
         }
     }
-    let (e, mut s) = strain_and_stress(&h, el.lambda_vol, el.two_mu_vol);
+    // F = F0 + H = I + d (see `OnePointElement`).
+    let mut d = h;
+    for i in 0..3 {
+        for j in 0..3 {
+            d[i][j] += el.stretch_delta[i][j];
+        }
+    }
+    let (e, mut s) = strain_and_stress(&h, &el.stretch_delta, el.lambda_vol, el.two_mu_vol);
     let mut energy = ElementEnergy::default();
     if ENERGY {
         let tr = e[0][0] + e[1][1] + e[2][2];
@@ -494,12 +576,15 @@ pub fn one_point_forces<const ENERGY: bool>(
             }
         }
         energy.strain_j = 0.5 * el.lambda_vol * tr * tr + 0.5 * el.two_mu_vol * ee;
-        let fmat = [
-            [1.0 + h[0][0], h[0][1], h[0][2]],
-            [h[1][0], 1.0 + h[1][1], h[1][2]],
-            [h[2][0], h[2][1], 1.0 + h[2][2]],
-        ];
-        energy.min_det_f = det3(&fmat);
+        // Volume ratio det(F F0^-1).
+        let identity_plus = |m: &[[f64; 3]; 3]| {
+            let mut f = *m;
+            for i in 0..3 {
+                f[i][i] += 1.0;
+            }
+            f
+        };
+        energy.min_det_f = det3(&identity_plus(&d)) / det3(&identity_plus(&el.stretch_delta));
     }
     let mut ve = [[0.0; 8]; 3];
     let needs_velocity = opts.viscous_hourglass || opts.stiffness_damping_s > 0.0;
@@ -513,7 +598,7 @@ pub fn one_point_forces<const ENERGY: bool>(
     }
     if opts.stiffness_damping_s > 0.0 {
         // Rayleigh stiffness-proportional damping: S += beta C : Edot,
-        // Edot = (Hdot + Hdot^T + Hdot^T H + H^T Hdot) / 2.
+        // Edot = (Hdot^T F + F^T Hdot) / 2 = (Hdot + Hdot^T + Hdot^T d + d^T Hdot) / 2.
         let mut hd = [[0.0; 3]; 3];
         for i in 0..3 {
             for j in 0..3 {
@@ -529,7 +614,7 @@ pub fn one_point_forces<const ENERGY: bool>(
             for j in 0..3 {
                 let mut cross = 0.0;
                 for k in 0..3 {
-                    cross += hd[k][i] * h[k][j] + h[k][i] * hd[k][j];
+                    cross += hd[k][i] * d[k][j] + d[k][i] * hd[k][j];
                 }
                 ed[i][j] = 0.5 * (hd[i][j] + hd[j][i] + cross);
             }
@@ -543,23 +628,25 @@ pub fn one_point_forces<const ENERGY: bool>(
             s[i][i] += beta * el.lambda_vol * tr;
         }
     }
-    let p = first_piola(&h, &s);
+    let p = first_piola(&d, &s);
     for a in 0..8 {
         for i in 0..3 {
             force[a][i] =
                 p[i][0] * el.grad[0][a] + p[i][1] * el.grad[1][a] + p[i][2] * el.grad[2][a];
         }
     }
-    // Hourglass: g_alpha,a = h_alpha,a - (hX_alpha . b_a); q_alpha = sum_a g_alpha,a w_a with
-    // w = u (stiffness form) or v (viscous form).
+    // Hourglass: g_alpha,a = h_alpha,a - (hX_alpha . b_a) with hX_alpha = F0^-1 sum_b h_alpha,b
+    // X_b (so that sum_a g_alpha,a X_a = 0: linear fields, rigid rotations included, give no
+    // hourglass displacement); q_alpha = sum_a g_alpha,a w_a with w = u (stiffness form) or v
+    // (viscous form).
     let mut hourglass_energy = 0.0;
     if opts.physical_hourglass {
-        // Current element axes t_r = F t_r0 = t_r0 + H t_r0 (the reference axes carried by the
+        // Current element axes t_r = F t_r0 = t_r0 + d t_r0 (the reference axes carried by the
         // element's mean deformation), normalised.
         let mut axes = el.axes_ref;
         for (r, t0) in el.axes_ref.iter().enumerate() {
             for i in 0..3 {
-                axes[r][i] += h[i][0] * t0[0] + h[i][1] * t0[1] + h[i][2] * t0[2];
+                axes[r][i] += d[i][0] * t0[0] + d[i][1] * t0[1] + d[i][2] * t0[2];
             }
         }
         for t in axes.iter_mut() {
@@ -714,7 +801,7 @@ pub fn full_forces<const ENERGY: bool>(
                 hd[i][j] = accd;
             }
         }
-        let (e, mut s) = strain_and_stress(&h, el.lambda_pa * w, el.two_mu_pa * w);
+        let (e, mut s) = strain_and_stress(&h, &[[0.0; 3]; 3], el.lambda_pa * w, el.two_mu_pa * w);
         if beta_s > 0.0 {
             let mut ed = [[0.0; 3]; 3];
             for i in 0..3 {
@@ -909,10 +996,12 @@ mod tests {
         let full = FullElement::new([0, 1, 2, 3, 4, 5, 6, 7], &x, &STEEL).unwrap();
         let mut f2 = [[0.0; 3]; 8];
         let e2 = full_forces::<true>(&full, &u, 0.0, &[[0.0; 3]; 8], &mut f2);
-        // Same linear field: the stresses agree; volumes differ only by the tetrahedral-split
-        // formula versus Gauss integration of det J (exact for trilinear maps: < 1e-12).
+        // Same linear field: the stresses agree. The one-point element's gradients, Lame
+        // factors and F0 are single-precision numbers (relative rounding 6e-8 each), so its
+        // energy may differ by a few 1e-7; 1e-6 bounds that with room, while a formulation
+        // error (a wrong F0 term, say) would show at O(1).
         assert!(
-            (e1.strain_j / e2.strain_j - 1.0).abs() < 1e-9,
+            (e1.strain_j / e2.strain_j - 1.0).abs() < 1e-6,
             "{} {}",
             e1.strain_j,
             e2.strain_j

@@ -6,7 +6,9 @@
 //! One-point element, `u = 0`: with the mean gradients `b_a`,
 //! `K_ab,ik = V0 (lambda b_a,i b_b,k + mu b_a,k b_b,i + mu delta_ik b_a . b_b)`, plus the hourglass
 //! stiffness `sum_alpha g_alpha,a g_alpha,b C_alpha,ik`, where `C_alpha = sum_r C_alpha,r t_r t_r^T`
-//! (physical form, unit reference axes t_r) or `C I` (isotropic form).
+//! (physical form, unit reference axes t_r) or `C I` (isotropic form). It takes the element's
+//! `F0` (see `OnePointElement`) as I: F0 differs from I by the single-precision rounding of the
+//! gradients, ~1e-7, far below what the modal comparison resolves.
 
 // Index loops mirror the tensor notation of the equations.
 #![allow(clippy::needless_range_loop)]

@@ -32,7 +32,9 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::batch::{add_block_forces, ElementBatch, LANES};
-use super::element::{full_forces, one_point_forces, ElementEnergy, KernelOptions};
+use super::element::{
+    full_forces, one_point_forces, ElementEnergy, FullElement, KernelOptions, OnePointElement,
+};
 use super::model::{Elements, Model, MotionKind};
 use crate::mesh::P3;
 use crate::{Error, Result};
@@ -1283,6 +1285,19 @@ impl Solver {
     /// Effective lumped masses (after ties), for other modules.
     pub fn effective_mass(&self) -> &[f64] {
         &self.eff_mass
+    }
+
+    /// Bytes of element data the element loop reads per element and step (the record it
+    /// streams: a quarter of a four-element batch on the fast path).
+    pub fn element_bytes_per_step(&self) -> usize {
+        if self.batches.is_empty() {
+            match &self.model.elements {
+                Elements::OnePoint(_) => std::mem::size_of::<OnePointElement>(),
+                Elements::Full(_) => std::mem::size_of::<FullElement>(),
+            }
+        } else {
+            std::mem::size_of::<ElementBatch>() / LANES
+        }
     }
 
     /// Element colours (number of colours, blocks) for reports.
