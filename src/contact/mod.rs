@@ -25,6 +25,7 @@
 
 pub mod patch;
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::explicit::AuxForces;
@@ -205,6 +206,134 @@ fn sub(a: P3, b: P3) -> P3 {
 }
 fn dot(a: P3, b: P3) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Slaves per parallel chunk of the contact loop.
+const SLAVE_CHUNK: usize = 256;
+
+/// What one slave's contact update reads (shared by the parallel chunks).
+struct SlaveContext<'a> {
+    grid: &'a BucketGrid,
+    faces: &'a [[usize; 4]],
+    face_stiffness_n_per_m: &'a [f64],
+    slave_stiffness_cap: &'a [f64],
+    friction: &'a FrictionLaw,
+    search_margin_m: f64,
+    reference: &'a [P3],
+    slaves: &'a [usize],
+    u: &'a [P3],
+    v: &'a [P3],
+    dt_s: f64,
+}
+
+impl SlaveContext<'_> {
+    /// Contact of slave `k`: closest penetrated master face, normal penalty force, friction
+    /// (trial force and return to the bound); updates its state and returns its total force,
+    /// the master point's weights and the face (`u32::MAX`: no contact).
+    fn update(&self, k: usize, st: &mut SlaveState) -> (P3, [f64; 4], u32) {
+        let (reference, u, v, dt_s) = (self.reference, self.u, self.v, self.dt_s);
+        let pos = |n: usize| -> P3 { [0, 1, 2].map(|i| reference[n][i] + u[n][i]) };
+        let s = self.slaves[k];
+        let xs = pos(s);
+        let mut best: Option<(f64, u32, [f64; 4], P3)> = None;
+        for &fi in self.grid.candidates(xs) {
+            let (blo, bhi) = (
+                self.grid.face_lo[fi as usize],
+                self.grid.face_hi[fi as usize],
+            );
+            if (0..3).any(|d| xs[d] < blo[d] || xs[d] > bhi[d]) {
+                continue;
+            }
+            let f = self.faces[fi as usize];
+            let p = f.map(pos);
+            let n = crate::mesh::hex::face_normal(p[0], p[1], p[2], p[3]);
+            let len = dot(n, n).sqrt();
+            let n = [n[0] / len, n[1] / len, n[2] / len];
+            // Cheap plane test first: a node above the face's mean plane (beyond 5 % of
+            // the face size, for warped faces) is not in contact with it.
+            let centroid = [0, 1, 2].map(|d| 0.25 * (p[0][d] + p[1][d] + p[2][d] + p[3][d]));
+            if dot(sub(xs, centroid), n) > 0.05 * len.sqrt() {
+                continue;
+            }
+            let (_, _, w, _) = project_on_face(&p, xs);
+            let xp = [0, 1, 2]
+                .map(|d| w[0] * p[0][d] + w[1] * p[1][d] + w[2] * p[2][d] + w[3] * p[3][d]);
+            // The projection is clamped to the face: a node beside the face (not over it)
+            // has a tangential offset from its closest point. Accept only nodes over the
+            // face, to 2 % of the face size (the offset of a node just past a shared edge).
+            let d = sub(xs, xp);
+            let dn = dot(d, n);
+            let tangential = [d[0] - dn * n[0], d[1] - dn * n[1], d[2] - dn * n[2]];
+            if dot(tangential, tangential) > 4e-4 * len {
+                continue;
+            }
+            let gap = dot(sub(xs, xp), n);
+            // Penetrations deeper than a face size are the far side of a thin part.
+            if gap < 0.0 && gap > -self.search_margin_m && best.is_none_or(|b| gap < b.0) {
+                best = Some((gap, fi, w, n));
+            }
+        }
+        let Some((gap, fi, w, n)) = best else {
+            *st = SlaveState {
+                mu: st.mu,
+                ..Default::default()
+            };
+            return ([0.0; 3], [0.0; 4], u32::MAX);
+        };
+        let kf = self.face_stiffness_n_per_m[fi as usize].min(self.slave_stiffness_cap[k]);
+        let f_n = -kf * gap;
+        // Tangential movement of the slave relative to the master point in the last step.
+        let f = self.faces[fi as usize];
+        let vm = [0, 1, 2]
+            .map(|d| w[0] * v[f[0]][d] + w[1] * v[f[1]][d] + w[2] * v[f[2]][d] + w[3] * v[f[3]][d]);
+        let vr = sub(v[s], vm);
+        let vn = dot(vr, n);
+        let vt = [vr[0] - vn * n[0], vr[1] - vn * n[1], vr[2] - vn * n[2]];
+        let de = vt.map(|c| c * dt_s);
+        let slip_speed = dot(vt, vt).sqrt();
+        let mu = self.friction.mu(slip_speed);
+        // Previous tangential force, rotated into the current tangent plane (magnitude kept).
+        let ft_old = if st.active {
+            st.tangential_force_n
+        } else {
+            [0.0; 3]
+        };
+        let on = dot(ft_old, n);
+        let mut ft = [
+            ft_old[0] - on * n[0],
+            ft_old[1] - on * n[1],
+            ft_old[2] - on * n[2],
+        ];
+        let old_mag = dot(ft_old, ft_old).sqrt();
+        let new_mag = dot(ft, ft).sqrt();
+        if new_mag > 0.0 {
+            ft = ft.map(|c| c * old_mag / new_mag);
+        }
+        // Trial force f* = f_T - k de; return to the bound mu |f_N| when exceeded.
+        let trial = [ft[0] - kf * de[0], ft[1] - kf * de[1], ft[2] - kf * de[2]];
+        let trial_mag = dot(trial, trial).sqrt();
+        let bound = mu * f_n;
+        let (ft_new, at_bound) = if trial_mag > bound {
+            let s = bound / trial_mag;
+            (trial.map(|c| c * s), true)
+        } else {
+            (trial, false)
+        };
+        *st = SlaveState {
+            active: true,
+            normal_force_n: f_n,
+            tangential_force_n: ft_new,
+            normal: n,
+            slip_velocity_m_per_s: vt,
+            mu,
+            at_bound,
+            penetration_m: -gap,
+            face: fi,
+            weights: w,
+        };
+        let total = [0, 1, 2].map(|d| f_n * n[d] + ft_new[d]);
+        (total, w, fi)
+    }
 }
 
 impl ContactPair {
@@ -443,10 +572,12 @@ impl ContactPair {
         let limit2 = limit * limit;
         // Only the master faces are binned; slaves look up the cell of their current position,
         // so a rolling wheel's slaves never force a rebuild.
-        self.faces.iter().flatten().any(|&n| {
-            let x = [0, 1, 2].map(|i| self.reference[n][i] + u[n][i]);
-            let d = sub(x, self.positions_at_build[n]);
-            dot(d, d) > limit2
+        self.faces.par_iter().any(|face| {
+            face.iter().any(|&n| {
+                let x = [0, 1, 2].map(|i| self.reference[n][i] + u[n][i]);
+                let d = sub(x, self.positions_at_build[n]);
+                dot(d, d) > limit2
+            })
         })
     }
 
@@ -474,112 +605,30 @@ impl AuxForces for ContactPair {
             // Rare (when nodes moved half a face): allocation here is outside the steady loop.
             self.build_grid(u);
         }
-        let reference = &self.reference;
-        let pos = |n: usize| -> P3 { [0, 1, 2].map(|i| reference[n][i] + u[n][i]) };
-        for (k, &s) in self.slaves.iter().enumerate() {
-            let xs = pos(s);
-            let mut best: Option<(f64, u32, [f64; 4], P3)> = None;
-            for &fi in self.grid.candidates(xs) {
-                let (blo, bhi) = (
-                    self.grid.face_lo[fi as usize],
-                    self.grid.face_hi[fi as usize],
-                );
-                if (0..3).any(|d| xs[d] < blo[d] || xs[d] > bhi[d]) {
-                    continue;
+        // Slaves in parallel chunks: each slave's search, penalty and friction update touch only
+        // its own state, so the result does not depend on the thread count.
+        let ctx = SlaveContext {
+            grid: &self.grid,
+            faces: &self.faces,
+            face_stiffness_n_per_m: &self.face_stiffness_n_per_m,
+            slave_stiffness_cap: &self.slave_stiffness_cap,
+            friction: &self.friction,
+            search_margin_m: self.search_margin_m,
+            reference: &self.reference,
+            slaves: &self.slaves,
+            u,
+            v,
+            dt_s,
+        };
+        self.state
+            .par_chunks_mut(SLAVE_CHUNK)
+            .zip(self.forces.par_chunks_mut(SLAVE_CHUNK))
+            .enumerate()
+            .for_each(|(c, (states, forces))| {
+                for (j, (st, out)) in states.iter_mut().zip(forces.iter_mut()).enumerate() {
+                    *out = ctx.update(c * SLAVE_CHUNK + j, st);
                 }
-                let f = self.faces[fi as usize];
-                let p = f.map(pos);
-                let n = crate::mesh::hex::face_normal(p[0], p[1], p[2], p[3]);
-                let len = dot(n, n).sqrt();
-                let n = [n[0] / len, n[1] / len, n[2] / len];
-                // Cheap plane test first: a node above the face's mean plane (beyond 5 % of
-                // the face size, for warped faces) is not in contact with it.
-                let centroid = [0, 1, 2].map(|d| 0.25 * (p[0][d] + p[1][d] + p[2][d] + p[3][d]));
-                if dot(sub(xs, centroid), n) > 0.05 * len.sqrt() {
-                    continue;
-                }
-                let (_, _, w, _) = project_on_face(&p, xs);
-                let xp = [0, 1, 2]
-                    .map(|d| w[0] * p[0][d] + w[1] * p[1][d] + w[2] * p[2][d] + w[3] * p[3][d]);
-                // The projection is clamped to the face: a node beside the face (not over it)
-                // has a tangential offset from its closest point. Accept only nodes over the
-                // face, to 2 % of the face size (the offset of a node just past a shared edge).
-                let d = sub(xs, xp);
-                let dn = dot(d, n);
-                let tangential = [d[0] - dn * n[0], d[1] - dn * n[1], d[2] - dn * n[2]];
-                if dot(tangential, tangential) > 4e-4 * len {
-                    continue;
-                }
-                let gap = dot(sub(xs, xp), n);
-                // Penetrations deeper than a face size are the far side of a thin part.
-                if gap < 0.0 && gap > -self.search_margin_m && best.is_none_or(|b| gap < b.0) {
-                    best = Some((gap, fi, w, n));
-                }
-            }
-            let st = &mut self.state[k];
-            let Some((gap, fi, w, n)) = best else {
-                *st = SlaveState {
-                    mu: st.mu,
-                    ..Default::default()
-                };
-                self.forces[k] = ([0.0; 3], [0.0; 4], u32::MAX);
-                continue;
-            };
-            let kf = self.face_stiffness_n_per_m[fi as usize].min(self.slave_stiffness_cap[k]);
-            let f_n = -kf * gap;
-            // Tangential movement of the slave relative to the master point in the last step.
-            let f = self.faces[fi as usize];
-            let vm = [0, 1, 2].map(|d| {
-                w[0] * v[f[0]][d] + w[1] * v[f[1]][d] + w[2] * v[f[2]][d] + w[3] * v[f[3]][d]
             });
-            let vr = sub(v[s], vm);
-            let vn = dot(vr, n);
-            let vt = [vr[0] - vn * n[0], vr[1] - vn * n[1], vr[2] - vn * n[2]];
-            let de = vt.map(|c| c * dt_s);
-            let slip_speed = dot(vt, vt).sqrt();
-            let mu = self.friction.mu(slip_speed);
-            // Previous tangential force, rotated into the current tangent plane (magnitude kept).
-            let ft_old = if st.active {
-                st.tangential_force_n
-            } else {
-                [0.0; 3]
-            };
-            let on = dot(ft_old, n);
-            let mut ft = [
-                ft_old[0] - on * n[0],
-                ft_old[1] - on * n[1],
-                ft_old[2] - on * n[2],
-            ];
-            let old_mag = dot(ft_old, ft_old).sqrt();
-            let new_mag = dot(ft, ft).sqrt();
-            if new_mag > 0.0 {
-                ft = ft.map(|c| c * old_mag / new_mag);
-            }
-            // Trial force f* = f_T - k de; return to the bound mu |f_N| when exceeded.
-            let trial = [ft[0] - kf * de[0], ft[1] - kf * de[1], ft[2] - kf * de[2]];
-            let trial_mag = dot(trial, trial).sqrt();
-            let bound = mu * f_n;
-            let (ft_new, at_bound) = if trial_mag > bound {
-                let s = bound / trial_mag;
-                (trial.map(|c| c * s), true)
-            } else {
-                (trial, false)
-            };
-            *st = SlaveState {
-                active: true,
-                normal_force_n: f_n,
-                tangential_force_n: ft_new,
-                normal: n,
-                slip_velocity_m_per_s: vt,
-                mu,
-                at_bound,
-                penetration_m: -gap,
-                face: fi,
-                weights: w,
-            };
-            let total = [0, 1, 2].map(|d| f_n * n[d] + ft_new[d]);
-            self.forces[k] = (total, w, fi);
-        }
         // Scatter (serial: slaves share master nodes).
         for (k, &s) in self.slaves.iter().enumerate() {
             let (f, w, fi) = self.forces[k];
