@@ -1,10 +1,11 @@
 //! No heap allocation inside the time loop: a counting global allocator around steps of a model
 //! with every kind of part (elements, springs, loads, ties, a rigid body, prescribed motion,
-//! damping), on one and on two threads.
+//! damping), on one and on two threads; then with a frictional contact pair in the loop.
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use squeal::contact::{ContactPair, FrictionLaw};
 use squeal::explicit::element::{ElasticMaterial, Formulation};
 use squeal::explicit::model::Model;
 use squeal::explicit::{Curve, MotionKind, NoAux, Solver};
@@ -80,6 +81,75 @@ fn the_time_step_does_not_allocate() {
                 0,
                 "{} allocations in 50 steps on {threads} thread(s)",
                 after - before
+            );
+        });
+    }
+    // The contact module in the loop too (in the same test: the counter is global): a block of
+    // 441 slave nodes (two parallel chunks) pressed by gravity on a fixed plate, with friction.
+    let plate = cuboid([12, 12, 1], [0.3, 0.3, 0.02], 1);
+    let mut block = cuboid([20, 20, 1], [0.1, 0.1, 0.01], 1);
+    for p in &mut block.nodes {
+        p[0] += 0.1;
+        p[1] += 0.1;
+        p[2] += 0.02;
+    }
+    let mut mesh = plate;
+    let offset = mesh.nodes.len();
+    let slaves: Vec<usize> = block.node_sets["z0"].iter().map(|n| n + offset).collect();
+    mesh.append(block);
+    mesh.node_sets.insert("plate".into(), (0..offset).collect());
+    let faces: Vec<[usize; 4]> = mesh
+        .boundary_faces()
+        .into_iter()
+        .map(|(f, _)| f)
+        .filter(|f| f.iter().all(|&n| n < offset && mesh.nodes[n][2] > 0.019))
+        .collect();
+    let bulk_pa = 210e9 / (3.0 * (1.0 - 2.0 * 0.3));
+    // One pair per thread count (a pair carries its friction state).
+    let mut pairs: Vec<ContactPair> = (0..2)
+        .map(|_| {
+            ContactPair::new(
+                "block_on_plate",
+                &mesh,
+                slaves.clone(),
+                faces.clone(),
+                0.1,
+                bulk_pa,
+                FrictionLaw::Coulomb { mu: 0.3 },
+            )
+            .unwrap()
+        })
+        .collect();
+    let mut m = Model::from_mesh(mesh, &materials, Formulation::default(), "test").unwrap();
+    m.gravity_m_per_s2 = [0.0, 0.0, -9.81];
+    m.fix_set("plate", [true, true, true]).unwrap();
+    let bound = pairs[0].time_step_bound_s(&m.nodal_mass_kg);
+    m.register_time_step_bound("contact", bound);
+    for (threads, contact) in [1, 2].into_iter().zip(pairs.iter_mut()) {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut s = Solver::new(m.clone(), None).unwrap();
+            for _ in 0..3 {
+                s.step_with(contact, true, false).unwrap();
+            }
+            let before = ALLOCATIONS.load(Ordering::SeqCst);
+            for k in 0..50 {
+                s.step_with(contact, k % 5 == 0, false).unwrap();
+            }
+            let after = ALLOCATIONS.load(Ordering::SeqCst);
+            assert_eq!(
+                after - before,
+                0,
+                "{} allocations in 50 contact steps on {threads} thread(s)",
+                after - before
+            );
+            // The block did touch the plate (else the contact loop did no work).
+            assert!(
+                contact.state.iter().any(|st| st.active),
+                "no slave in contact"
             );
         });
     }
