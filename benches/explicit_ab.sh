@@ -3,6 +3,10 @@
 # all of them alike, and prints min and median per binary.
 # usage: benches/explicit_ab.sh THREADS ROUNDS BINARY...   (e.g. target/release/squeal /tmp/old)
 set -euo pipefail
+if [ $# -lt 3 ] || ! [[ $1 =~ ^[1-9][0-9]*$ ]] || ! [[ $2 =~ ^[1-9][0-9]*$ ]]; then
+  echo "usage: $0 THREADS ROUNDS BINARY... (THREADS and ROUNDS: positive integers)" >&2
+  exit 2
+fi
 threads=$1
 rounds=$2
 shift 2

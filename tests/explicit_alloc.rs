@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use squeal::contact::{ContactPair, FrictionLaw};
 use squeal::explicit::element::{ElasticMaterial, Formulation};
 use squeal::explicit::model::Model;
-use squeal::explicit::{Curve, MotionKind, NoAux, Solver};
+use squeal::explicit::{AuxForces, Curve, MotionKind, NoAux, Solver};
 use squeal::mesh::cuboid;
 
 struct Counting;
@@ -61,28 +61,7 @@ fn the_time_step_does_not_allocate() {
         curve_n_m: Curve::ramp(0.0, 1e-4, 100.0),
     });
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let mut s = Solver::new(m.clone(), None).unwrap();
-            // Warm up (rayon's registry, first-touch of buffers), then count.
-            for _ in 0..3 {
-                s.step_with(&mut NoAux, true, false).unwrap();
-            }
-            let before = ALLOCATIONS.load(Ordering::SeqCst);
-            for k in 0..50 {
-                s.step_with(&mut NoAux, k % 5 == 0, false).unwrap();
-            }
-            let after = ALLOCATIONS.load(Ordering::SeqCst);
-            assert_eq!(
-                after - before,
-                0,
-                "{} allocations in 50 steps on {threads} thread(s)",
-                after - before
-            );
-        });
+        assert_steps_do_not_allocate(&m, threads, &mut NoAux, "");
     }
     // The contact module in the loop too (in the same test: the counter is global): a block of
     // 441 slave nodes (two parallel chunks) pressed by gravity on a fixed plate, with friction.
@@ -126,31 +105,43 @@ fn the_time_step_does_not_allocate() {
     let bound = pairs[0].time_step_bound_s(&m.nodal_mass_kg);
     m.register_time_step_bound("contact", bound);
     for (threads, contact) in [1, 2].into_iter().zip(pairs.iter_mut()) {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let mut s = Solver::new(m.clone(), None).unwrap();
-            for _ in 0..3 {
-                s.step_with(contact, true, false).unwrap();
-            }
-            let before = ALLOCATIONS.load(Ordering::SeqCst);
-            for k in 0..50 {
-                s.step_with(contact, k % 5 == 0, false).unwrap();
-            }
-            let after = ALLOCATIONS.load(Ordering::SeqCst);
-            assert_eq!(
-                after - before,
-                0,
-                "{} allocations in 50 contact steps on {threads} thread(s)",
-                after - before
-            );
-            // The block did touch the plate (else the contact loop did no work).
-            assert!(
-                contact.state.iter().any(|st| st.active),
-                "no slave in contact"
-            );
-        });
+        assert_steps_do_not_allocate(&m, threads, contact, "contact ");
+        // The block did touch the plate (else the contact loop did no work).
+        assert!(
+            contact.state.iter().any(|st| st.active),
+            "no slave in contact"
+        );
     }
+}
+
+/// Steps a solver of `m` on a pool of `threads` threads with `aux` in the loop: three steps to
+/// warm up (rayon's registry, first touch of buffers), then 50 counted steps (every fifth with
+/// output) must not allocate.
+fn assert_steps_do_not_allocate<A: AuxForces + Send>(
+    m: &Model,
+    threads: usize,
+    aux: &mut A,
+    what: &str,
+) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        let mut s = Solver::new(m.clone(), None).unwrap();
+        for _ in 0..3 {
+            s.step_with(aux, true, false).unwrap();
+        }
+        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        for k in 0..50 {
+            s.step_with(aux, k % 5 == 0, false).unwrap();
+        }
+        let after = ALLOCATIONS.load(Ordering::SeqCst);
+        assert_eq!(
+            after - before,
+            0,
+            "{} allocations in 50 {what}steps on {threads} thread(s)",
+            after - before
+        );
+    });
 }

@@ -136,8 +136,6 @@ pub struct ElementBatch {
     pub two_mu_vol: VF,
     /// Nodes per lane.
     pub nodes: [[u32; LANES]; 8],
-    /// Number of real elements in the batch.
-    pub count: u32,
 }
 
 impl ElementBatch {
@@ -154,7 +152,6 @@ impl ElementBatch {
             lambda_vol: VF::default(),
             two_mu_vol: VF::default(),
             nodes: [[0; LANES]; 8],
-            count: elements.len() as u32,
         };
         // The element's values are single-precision numbers already (rounded in
         // `OnePointElement::new`): these casts are exact.
@@ -229,7 +226,7 @@ fn hourglass_sums(x: &[V; 8]) -> [V; 4] {
     ]
 }
 
-/// The transpose of [`hourglass_sums`]: `x_a = sum_alpha h_alpha,a g_alpha` (12 additions
+/// The transpose of [`hourglass_sums`]: `x_a = sum_alpha h_alpha,a g_alpha` (14 additions
 /// instead of 24).
 #[inline(always)]
 fn hourglass_spread(g: &[V; 4]) -> [V; 8] {
@@ -518,16 +515,20 @@ mod tests {
         one_point_forces, ElasticMaterial, Hourglass, KernelOptions, NODE_NATURAL,
     };
 
-    /// The butterflies against the base vectors they stand for, on seeded random values.
-    #[test]
-    fn hourglass_butterflies_match_the_base_vectors() {
-        let mut seed: u64 = 0x2545f4914f6cdd1d;
-        let mut rnd = || {
+    /// Seeded uniform numbers in [-0.5, 0.5) (xorshift64).
+    fn xorshift(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
             seed ^= seed << 13;
             seed ^= seed >> 7;
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        }
+    }
+
+    /// The butterflies against the base vectors they stand for, on seeded random values.
+    #[test]
+    fn hourglass_butterflies_match_the_base_vectors() {
+        let mut rnd = xorshift(0x2545f4914f6cdd1d);
         for _ in 0..20 {
             let x: [V; 8] = std::array::from_fn(|_| V([rnd(), rnd(), rnd(), rnd()]));
             let sums = hourglass_sums(&x);
@@ -621,13 +622,7 @@ mod tests {
             youngs_modulus_pa: 210e9,
             poisson_ratio: 0.3,
         };
-        let mut seed: u64 = 0x9e3779b97f4a7c15;
-        let mut rnd = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rnd = xorshift(0x9e3779b97f4a7c15);
         for hourglass in [Hourglass::default(), Hourglass::Stiffness { kappa: 0.1 }] {
             let physical = matches!(hourglass, Hourglass::Physical { .. });
             for count in 1..=LANES {
