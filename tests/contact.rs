@@ -300,3 +300,53 @@ fn contact_preload() -> PreloadOptions {
         ..Default::default()
     }
 }
+
+/// The bucket grid follows its master surface: the plate carried 0.1 m along x (five faces,
+/// twenty times the rebuild distance of a quarter face) with the block on it, 0.1 mm into it.
+/// Every block-bottom slave must find its face at the new place, with the penalty force
+/// `k x 0.1 mm` (k: the uniform face stiffness); a grid left at the old place finds none of
+/// them. Then a further 0.5 mm (a tenth of the rebuild distance: no rebuild) finds them too.
+#[test]
+fn contact_search_follows_a_carried_master_surface() {
+    let (mesh, slaves, faces, offset) = block_on_plate();
+    let mut pair = ContactPair::new(
+        "block_on_plate",
+        &mesh,
+        slaves.clone(),
+        faces,
+        0.1,
+        bulk_modulus(),
+        FrictionLaw::Coulomb { mu: 0.3 },
+    )
+    .unwrap();
+    let k = pair.face_stiffness_n_per_m[0];
+    assert!(pair
+        .face_stiffness_n_per_m
+        .iter()
+        .all(|&x| (x / k - 1.0).abs() < 1e-9));
+    let depth = 1e-4;
+    for shift_m in [0.1, 0.1005] {
+        let n = mesh.nodes.len();
+        let mut u: Vec<P3> = vec![[shift_m, 0.0, 0.0]; n];
+        // Slaves (block bottom, resting on the plate top) pressed into the plate.
+        for &s in &slaves {
+            u[s][2] = -depth;
+        }
+        let v = vec![[0.0; 3]; n];
+        let mut force = vec![[0.0; 3]; n];
+        pair.add_forces(0.0, 1e-7, &u, &v, &mut force);
+        let in_contact = pair.state.iter().filter(|s| s.active).count();
+        assert_eq!(in_contact, slaves.len(), "shift {shift_m} m");
+        let (normal, _, _) = pair.resultants();
+        let expected = k * depth * slaves.len() as f64;
+        // The faces are flat and the slaves over their interiors or edges: the gap is the
+        // depth to rounding.
+        assert!(
+            (normal[2] / expected - 1.0).abs() < 1e-9,
+            "shift {shift_m} m: {} N vs {expected} N",
+            normal[2]
+        );
+        let on_block: f64 = (offset..n).map(|i| force[i][2]).sum();
+        assert!((on_block / expected - 1.0).abs() < 1e-9);
+    }
+}

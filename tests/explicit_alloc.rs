@@ -127,6 +127,10 @@ fn assert_steps_do_not_allocate<A: AuxForces + Send>(
         .num_threads(threads)
         .build()
         .unwrap();
+    // Every worker must have started before counting: a thread that starts late (on a loaded
+    // machine) sets up its job queues inside the counted steps (measured: 1-3 allocations in
+    // rayon_core::registry::main_loop, none in our code).
+    pool.broadcast(|_| ());
     pool.install(|| {
         let mut s = Solver::new(m.clone(), None).unwrap();
         for _ in 0..3 {
