@@ -127,6 +127,11 @@ fn bad_case_files_name_the_field() {
             "preload.load_tolerance",
         ),
         (
+            "\"max_steps\": 2500",
+            "\"max_steps\": 0",
+            "preload.max_steps",
+        ),
+        (
             "\"model_scenario\": \"ci-tiny.json\"",
             "\"model_scenario\": \"missing.json\"",
             "model_scenario",
