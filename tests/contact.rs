@@ -8,7 +8,9 @@ use squeal::explicit::element::{ElasticMaterial, Formulation};
 use squeal::explicit::model::Model;
 use squeal::explicit::preload::{relax, PreloadOptions};
 use squeal::explicit::{AuxForces, Curve, Solver};
-use squeal::mesh::{cuboid, Mesh, P3};
+use squeal::mesh::{Mesh, P3};
+
+mod common;
 
 const STEEL: ElasticMaterial = ElasticMaterial {
     density_kg_per_m3: 7850.0,
@@ -23,32 +25,14 @@ fn bulk_modulus() -> f64 {
 
 /// A 0.6 m x 0.2 m x 20 mm plate (fixed) and a 50 x 50 x 20 mm block resting on it at x = 0.1 m.
 fn block_on_plate() -> (Mesh, Vec<usize>, Vec<[usize; 4]>, usize) {
-    let plate = cuboid([30, 10, 1], [0.6, 0.2, 0.02], 1);
-    let mut block = cuboid([2, 2, 1], [0.05, 0.05, 0.02], 2);
-    for p in &mut block.nodes {
-        p[0] += 0.1;
-        p[1] += 0.075;
-        p[2] += 0.02;
-    }
-    let mut mesh = plate;
-    let offset = mesh.nodes.len();
-    let block_bottom: Vec<usize> = block.node_sets["z0"].iter().map(|n| n + offset).collect();
-    let block_all: Vec<usize> = (offset..offset + block.nodes.len()).collect();
-    mesh.append(block);
-    mesh.node_sets.insert("block".into(), block_all);
-    mesh.node_sets.insert("plate".into(), (0..offset).collect());
-    let top: Vec<usize> = mesh.node_sets["z1"]
-        .iter()
-        .copied()
-        .filter(|&n| n < offset)
-        .collect();
-    let faces: Vec<[usize; 4]> = mesh
-        .boundary_faces()
-        .into_iter()
-        .map(|(f, _)| f)
-        .filter(|f| f.iter().all(|n| top.contains(n)))
-        .collect();
-    (mesh, block_bottom, faces, offset)
+    common::block_on_plate(
+        [30, 10, 1],
+        [0.6, 0.2, 0.02],
+        [2, 2, 1],
+        [0.05, 0.05, 0.02],
+        [0.1, 0.075],
+        2,
+    )
 }
 
 struct Setup {

@@ -13,6 +13,8 @@ use squeal::explicit::run::{run, HistoryProbe, Quantity, RunOptions};
 use squeal::explicit::{Curve, MotionKind, NoAux, Solver, Spring};
 use squeal::mesh::{cuboid, Mesh};
 
+mod common;
+
 const STEEL: ElasticMaterial = ElasticMaterial {
     density_kg_per_m3: 7850.0,
     youngs_modulus_pa: 210e9,
@@ -475,27 +477,15 @@ fn bad_input_is_reported_with_the_field() {
 /// the same total reaction as one merged body (mass and force are passed to the masters).
 #[test]
 fn tied_blocks_carry_gravity_like_one_body() {
-    let coarse = cuboid([2, 2, 1], [0.1, 0.1, 0.05], 1);
-    let mut fine = cuboid([5, 5, 2], [0.1, 0.1, 0.02], 1);
-    for p in &mut fine.nodes {
-        p[2] += 0.05;
-    }
-    let fine_bottom = fine.node_sets["z0"].clone();
-    let mut mesh = coarse.clone();
-    let offset = mesh.nodes.len();
-    mesh.append(fine);
-    let top = mesh.node_sets["z1"]
-        .iter()
-        .copied()
-        .filter(|&n| n < offset)
-        .collect::<Vec<_>>();
-    let faces: Vec<[usize; 4]> = mesh
-        .boundary_faces()
-        .into_iter()
-        .map(|(f, _)| f)
-        .filter(|f| f.iter().all(|n| top.contains(n)))
-        .collect();
-    let slaves: Vec<usize> = fine_bottom.iter().map(|n| n + offset).collect();
+    // The fine block is the "block" of the shared scene, the coarse one its "plate".
+    let (mut mesh, slaves, faces, offset) = common::block_on_plate(
+        [2, 2, 1],
+        [0.1, 0.1, 0.05],
+        [5, 5, 2],
+        [0.1, 0.1, 0.02],
+        [0.0, 0.0],
+        1,
+    );
     let tie = squeal::mesh::tie::build("block_tie", &mesh.nodes, &slaves, &faces);
     assert_eq!(tie.pairs.len(), slaves.len());
     mesh.ties.push(tie);

@@ -11,6 +11,8 @@ use squeal::explicit::model::Model;
 use squeal::explicit::{AuxForces, Curve, MotionKind, NoAux, Solver};
 use squeal::mesh::cuboid;
 
+mod common;
+
 struct Counting;
 static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
 
@@ -65,24 +67,14 @@ fn the_time_step_does_not_allocate() {
     }
     // The contact module in the loop too (in the same test: the counter is global): a block of
     // 441 slave nodes (two parallel chunks) pressed by gravity on a fixed plate, with friction.
-    let plate = cuboid([12, 12, 1], [0.3, 0.3, 0.02], 1);
-    let mut block = cuboid([20, 20, 1], [0.1, 0.1, 0.01], 1);
-    for p in &mut block.nodes {
-        p[0] += 0.1;
-        p[1] += 0.1;
-        p[2] += 0.02;
-    }
-    let mut mesh = plate;
-    let offset = mesh.nodes.len();
-    let slaves: Vec<usize> = block.node_sets["z0"].iter().map(|n| n + offset).collect();
-    mesh.append(block);
-    mesh.node_sets.insert("plate".into(), (0..offset).collect());
-    let faces: Vec<[usize; 4]> = mesh
-        .boundary_faces()
-        .into_iter()
-        .map(|(f, _)| f)
-        .filter(|f| f.iter().all(|&n| n < offset && mesh.nodes[n][2] > 0.019))
-        .collect();
+    let (mesh, slaves, faces, _) = common::block_on_plate(
+        [12, 12, 1],
+        [0.3, 0.3, 0.02],
+        [20, 20, 1],
+        [0.1, 0.1, 0.01],
+        [0.1, 0.1],
+        1,
+    );
     let bulk_pa = 210e9 / (3.0 * (1.0 - 2.0 * 0.3));
     // One pair per thread count (a pair carries its friction state).
     let mut pairs: Vec<ContactPair> = (0..2)

@@ -1,0 +1,39 @@
+//! Scenes shared by more than one test file.
+use squeal::mesh::{cuboid, Mesh};
+
+/// A plate (`plate_divisions` elements over `plate_size_m`, material 1, its bottom at z = 0) with
+/// a block (`block_divisions` over `block_size_m`, material `block_material`) resting on its top
+/// with the block's corner at `block_corner_m` (x, y). Node sets "plate" and "block" are added.
+/// Returns the mesh, the block's bottom nodes (contact slaves), the plate's top faces (contact
+/// masters, outward) and the block's first node index.
+pub fn block_on_plate(
+    plate_divisions: [usize; 3],
+    plate_size_m: [f64; 3],
+    block_divisions: [usize; 3],
+    block_size_m: [f64; 3],
+    block_corner_m: [f64; 2],
+    block_material: u32,
+) -> (Mesh, Vec<usize>, Vec<[usize; 4]>, usize) {
+    let plate = cuboid(plate_divisions, plate_size_m, 1);
+    let top: std::collections::HashSet<usize> = plate.node_sets["z1"].iter().copied().collect();
+    let mut block = cuboid(block_divisions, block_size_m, block_material);
+    for p in &mut block.nodes {
+        p[0] += block_corner_m[0];
+        p[1] += block_corner_m[1];
+        p[2] += plate_size_m[2];
+    }
+    let mut mesh = plate;
+    let offset = mesh.nodes.len();
+    let block_bottom: Vec<usize> = block.node_sets["z0"].iter().map(|n| n + offset).collect();
+    let block_all: Vec<usize> = (offset..offset + block.nodes.len()).collect();
+    mesh.append(block);
+    mesh.node_sets.insert("block".into(), block_all);
+    mesh.node_sets.insert("plate".into(), (0..offset).collect());
+    let faces: Vec<[usize; 4]> = mesh
+        .boundary_faces()
+        .into_iter()
+        .map(|(f, _)| f)
+        .filter(|f| f.iter().all(|n| top.contains(n)))
+        .collect();
+    (mesh, block_bottom, faces, offset)
+}
