@@ -20,6 +20,7 @@ fn main() -> squeal::Result<()> {
         arc_centre_deg: 0.0,
         arc_width_deg: 20.0,
         growth_ratio: 1.15,
+        running_arc: None,
     };
     let t = std::time::Instant::now();
     let mesh = wheel_mesh(&spec, Some(&band), &WheelPlacement::default());

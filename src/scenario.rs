@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use crate::geometry::wheel::{WheelMeshSpec, WheelSpec};
 use crate::geometry::{rail54e1, s1002};
 use crate::input::{parse_json, read_json, Checker};
-use crate::mesh::track::{track_mesh, TrackLayout};
+use crate::mesh::track::{track_mesh, RailZone, TrackLayout};
 use crate::mesh::wheel::{wheel_mesh, TreadBandSpec, WheelPlacement};
 use crate::mesh::Mesh;
 use crate::{Error, Result};
@@ -72,6 +72,10 @@ pub struct TrackSpec {
     pub rail: RailSpec,
     /// Solution zone.
     pub solution_zone: SolutionZoneSpec,
+    /// A medium-size stretch over the whole rolling path, containing or beside the solution
+    /// zone (absent: the rail grows from the solution zone to the far size).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub running_zone: Option<SolutionZoneSpec>,
     /// Sleepers and pads.
     pub sleeper: SleeperSpec,
 }
@@ -237,6 +241,27 @@ impl LoadedScenario {
                 )
             },
         )?;
+        if let Some(r) = &t.running_zone {
+            c.positive("track.running_zone.length_m", r.length_m)?;
+            c.within(
+                "track.running_zone.element_length_mm",
+                r.element_length_mm,
+                z.element_length_mm,
+                t.rail.far_element_length_mm,
+            )?;
+            c.require(
+                r.start_m >= 0.0 && r.start_m + r.length_m <= t.length_m,
+                "track.running_zone.start_m",
+                || {
+                    format!(
+                        "the running zone [{}, {}] m must lie inside the track [0, {}] m",
+                        r.start_m,
+                        r.start_m + r.length_m,
+                        t.length_m
+                    )
+                },
+            )?;
+        }
         let sl = &t.sleeper;
         c.within(
             "track.sleeper.width_m",
@@ -295,6 +320,11 @@ impl LoadedScenario {
             solution_zone_start_m: t.solution_zone.start_m,
             solution_zone_length_m: t.solution_zone.length_m,
             zone_element_length_m: t.solution_zone.element_length_mm * 1e-3,
+            running_zone: t.running_zone.as_ref().map(|r| RailZone {
+                start_m: r.start_m,
+                length_m: r.length_m,
+                element_length_m: r.element_length_mm * 1e-3,
+            }),
             far_element_length_m: t.rail.far_element_length_mm * 1e-3,
             growth_ratio: t.rail.growth_ratio,
             running_surface_element_mm: t.rail.running_surface_element_mm,

@@ -150,6 +150,73 @@ fn solution_zone_outside_the_track_is_rejected() {
     );
 }
 
+/// The medium-size running arc of the wheel and running zone of the rail: each impossible
+/// setting is refused with its field named.
+#[test]
+fn running_arc_and_running_zone_errors_name_the_field() {
+    let arc = |size: f64, centre: f64, width: f64| {
+        move |s: &mut serde_json::Value| {
+            s["tread_band"]["running_arc"] = serde_json::json!({
+                "element_size_mm": size, "arc_centre_deg": centre, "arc_width_deg": width
+            })
+        }
+    };
+    // The demo's fine band: 6 mm, 155 deg about 72.5 deg; body 20 mm.
+    expect_input_error(
+        "arc-size",
+        "scenario",
+        arc(3.0, 72.5, 200.0),
+        &["tread_band.running_arc.element_size_mm", "[6, 20]"],
+    );
+    expect_input_error(
+        "arc-narrow",
+        "scenario",
+        arc(10.0, 72.5, 100.0),
+        &["tread_band.running_arc.arc_width_deg", "[155, 350]"],
+    );
+    expect_input_error(
+        "arc-contain",
+        "scenario",
+        arc(10.0, 0.0, 200.0),
+        &[
+            "tread_band.running_arc.arc_centre_deg",
+            "must contain the fine arc",
+        ],
+    );
+    expect_input_error(
+        "arc-opposite",
+        "scenario",
+        arc(10.0, 82.5, 350.0),
+        &["tread_band.running_arc.arc_width_deg", "point opposite"],
+    );
+    let zone = |start: f64, length: f64, size: f64| {
+        move |s: &mut serde_json::Value| {
+            s["track"]["running_zone"] = serde_json::json!({
+                "start_m": start, "length_m": length, "element_length_mm": size
+            })
+        }
+    };
+    // The demo's rail: 6 m long, solution zone at 6 mm, far size 120 mm.
+    expect_input_error(
+        "zone-size",
+        "scenario",
+        zone(1.0, 2.0, 3.0),
+        &["track.running_zone.element_length_mm", "[6, 120]"],
+    );
+    expect_input_error(
+        "zone-outside",
+        "scenario",
+        zone(5.0, 2.0, 10.0),
+        &["track.running_zone.start_m", "inside the track"],
+    );
+    expect_input_error(
+        "zone-length",
+        "scenario",
+        zone(1.0, 0.0, 10.0),
+        &["track.running_zone.length_m"],
+    );
+}
+
 #[test]
 fn malformed_json_is_reported_with_its_file() {
     let dir = temp_dir("malformed");

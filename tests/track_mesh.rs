@@ -1,7 +1,7 @@
 //! Track meshes: the extruded 54E1 rail against its catalogue section, the 1:40 inclination,
 //! graded spacing, sleepers and the named node sets for pads and ballast.
 use squeal::geometry::rail54e1;
-use squeal::mesh::track::{rail_stations, sleeper_positions, track_mesh, TrackLayout};
+use squeal::mesh::track::{rail_stations, sleeper_positions, track_mesh, RailZone, TrackLayout};
 use squeal::mesh::{material, Mesh};
 use squeal::scenario::LoadedScenario;
 
@@ -162,6 +162,53 @@ fn stations_are_fine_in_the_solution_zone_and_graded_outside() {
     );
     assert_eq!(x[0], 0.0);
     assert_eq!(*x.last().expect("stations"), layout.length_m);
+}
+
+/// A solution zone inside a medium running zone: the zone keeps its size, the running zone is
+/// no coarser than its size, neighbours still differ by at most the growth ratio, and without
+/// the running zone the same stretch is much coarser (so the checks can fail).
+#[test]
+fn stations_keep_the_running_zone_at_its_medium_size() {
+    let mut layout = medium_layout();
+    layout.solution_zone_start_m = 3.0;
+    layout.solution_zone_length_m = 0.15;
+    layout.zone_element_length_m = 1e-3;
+    let running = RailZone {
+        start_m: 2.4,
+        length_m: 1.3,
+        element_length_m: 6e-3,
+    };
+    let inside = |x: f64, a: f64, b: f64| x > a && x < b;
+    let running_end = running.start_m + running.length_m;
+    let zone_end = layout.solution_zone_start_m + layout.solution_zone_length_m;
+    let largest_in_running = |x: &[f64]| {
+        x.windows(2)
+            .filter(|w| inside(0.5 * (w[0] + w[1]), running.start_m, running_end))
+            .map(|w| w[1] - w[0])
+            .fold(0.0, f64::max)
+    };
+    let without = rail_stations(&layout);
+    assert!(
+        largest_in_running(&without) > 5.0 * running.element_length_m,
+        "without the running zone the stretch should be coarse: {}",
+        largest_in_running(&without)
+    );
+    layout.running_zone = Some(running);
+    let x = rail_stations(&layout);
+    // The size function is exact up to the 1/n rounding of the interval count: 5 %.
+    assert!(largest_in_running(&x) <= 1.05 * running.element_length_m);
+    let mut max_ratio: f64 = 1.0;
+    for w in x.windows(3) {
+        let (a, b) = (w[1] - w[0], w[2] - w[1]);
+        max_ratio = max_ratio.max(a / b).max(b / a);
+        if inside(0.5 * (w[0] + w[1]), layout.solution_zone_start_m, zone_end) {
+            assert!((a - 1e-3).abs() < 0.05e-3, "zone spacing {a}");
+        }
+    }
+    assert!(max_ratio < layout.growth_ratio * 1.05, "ratio {max_ratio}");
+    // Away from both zones the rail still grows to its far size.
+    let largest = x.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
+    assert!(largest > 0.9 * layout.far_element_length_m.min(0.5 * layout.pad_length_m));
 }
 
 #[test]

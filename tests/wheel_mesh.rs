@@ -7,7 +7,7 @@ use squeal::geometry::curve2d::polygon_properties;
 use squeal::geometry::s1002;
 use squeal::geometry::wheel::{body_outline_mm, WebShape, WheelSpec};
 use squeal::mesh::quality::dilatational_wave_speed;
-use squeal::mesh::wheel::{wheel_mesh, TreadBandSpec, WheelPlacement};
+use squeal::mesh::wheel::{band_angles, wheel_mesh, RunningArcSpec, TreadBandSpec, WheelPlacement};
 use squeal::mesh::{material, Mesh};
 
 fn default_wheel() -> WheelSpec {
@@ -162,6 +162,7 @@ fn tread_band_keeps_the_time_step_of_the_contact_zone() {
             arc_centre_deg: 0.0,
             arc_width_deg: 30.0,
             growth_ratio: 1.15,
+            running_arc: None,
         };
         let mesh = wheel_mesh(&spec, Some(&band), &WheelPlacement::default());
         let q = mesh.quality(c_l);
@@ -228,6 +229,74 @@ fn tread_band_keeps_the_time_step_of_the_contact_zone() {
             "arc spacing {spacing_mm}"
         );
     }
+}
+
+/// The tread band's circumferential spacing with a running arc: 1 mm on the fine arc, at most
+/// the running size on the rest of the running arc (which straddles the bottom point, as in
+/// the `paper` model), the body's spacing far away, and no jump above the growth ratio. Without
+/// the running arc the same stretch is much coarser (so the checks can fail).
+#[test]
+fn running_arc_keeps_the_rolled_tread_at_its_medium_size() {
+    let radius_mm = 460.0;
+    let body_divisions = 160; // 18 mm at the tread
+    let mut band = TreadBandSpec {
+        element_size_mm: 1.0,
+        arc_centre_deg: 66.4,
+        arc_width_deg: 30.0,
+        growth_ratio: 1.15,
+        running_arc: None,
+    };
+    let running = RunningArcSpec {
+        element_size_mm: 6.0,
+        arc_centre_deg: 72.5,
+        arc_width_deg: 155.0,
+    };
+    // Spacing (mm) and mid-angle (degrees, in (-180, 180]) of every band interval.
+    let intervals = |band: &TreadBandSpec| -> Vec<(f64, f64)> {
+        let a = band_angles(band, radius_mm, body_divisions);
+        let n = a.len();
+        (0..n)
+            .map(|k| {
+                let (a0, a1) = (a[k], if k + 1 < n { a[k + 1] } else { a[0] + TAU });
+                let mid = (0.5 * (a0 + a1)).to_degrees().rem_euclid(360.0);
+                let mid = if mid > 180.0 { mid - 360.0 } else { mid };
+                ((a1 - a0) * radius_mm, mid)
+            })
+            .collect()
+    };
+    let in_arc = |mid: f64, centre: f64, width: f64| (mid - centre).abs() < 0.5 * width;
+    let largest_running = |iv: &[(f64, f64)]| {
+        iv.iter()
+            .filter(|(_, m)| in_arc(*m, running.arc_centre_deg, running.arc_width_deg))
+            .map(|(h, _)| *h)
+            .fold(0.0, f64::max)
+    };
+    let without = intervals(&band);
+    assert!(largest_running(&without) > 2.5 * running.element_size_mm);
+    band.running_arc = Some(running.clone());
+    let with = intervals(&band);
+    // The size function is exact up to the 1/n rounding of the interval count: 5 %.
+    assert!(
+        largest_running(&with) <= 1.05 * running.element_size_mm,
+        "largest on the running arc {}",
+        largest_running(&with)
+    );
+    for (k, (h, mid)) in with.iter().enumerate() {
+        if in_arc(*mid, band.arc_centre_deg, band.arc_width_deg) {
+            assert!((h - 1.0).abs() < 0.05, "fine arc spacing {h} at {mid} deg");
+        }
+        let next = with[(k + 1) % with.len()].0;
+        assert!(
+            next / h < 1.15 * 1.05 && h / next < 1.15 * 1.05,
+            "jump {h} -> {next} at {mid} deg"
+        );
+    }
+    let largest = with.iter().map(|(h, _)| *h).fold(0.0, f64::max);
+    let body_mm = TAU * radius_mm / body_divisions as f64;
+    assert!(
+        (largest - body_mm).abs() < 0.05 * body_mm,
+        "largest {largest}"
+    );
 }
 
 /// The web-zone tie joins a coarse inner zone to a finer outer zone: hub elements keep a

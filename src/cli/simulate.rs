@@ -23,7 +23,7 @@ pub fn all_cases(resolution: Resolution) -> Vec<String> {
 pub enum Resolution {
     /// Demo meshes (data/scenarios/demo.json): a case in a few minutes on 2 cores.
     Demo,
-    /// The paper's 1 mm contact zone (data/scenarios/paper.json, 546 k elements): hours per
+    /// The paper's 1 mm contact zone (data/scenarios/paper.json, 716 k elements): hours per
     /// case on 2 cores.
     Paper,
 }

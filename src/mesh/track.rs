@@ -26,6 +26,10 @@ pub struct TrackLayout {
     pub solution_zone_length_m: f64,
     /// Element length along x in the solution zone (m).
     pub zone_element_length_m: f64,
+    /// A medium-size stretch of rail over the whole path the wheel rolls (None: the rail grows
+    /// from the solution zone to the far size): a coarse rail under a rolling wheel gives a
+    /// contact stiffness that varies with the element passing.
+    pub running_zone: Option<RailZone>,
     /// Largest element length along x (m).
     pub far_element_length_m: f64,
     /// Growth ratio of element length away from the zone.
@@ -52,6 +56,17 @@ pub struct TrackLayout {
     pub pad_thickness_m: f64,
     /// Rail pad length along x (m).
     pub pad_length_m: f64,
+}
+
+/// A stretch of rail with its own element length along x.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct RailZone {
+    /// Start along x (m).
+    pub start_m: f64,
+    /// Length (m).
+    pub length_m: f64,
+    /// Element length along x inside the stretch (m).
+    pub element_length_m: f64,
 }
 
 /// Rotate an upright rail-section point (mm) by the 1:40 inclination (top towards -y, the
@@ -88,7 +103,15 @@ fn stations_with_zone_size(layout: &TrackLayout, zone_size_m: f64) -> Vec<f64> {
     let z1 = z0 + layout.solution_zone_length_m;
     // Cap the far size so every rail pad holds at least two stations.
     let coarse = layout.far_element_length_m.min(0.5 * layout.pad_length_m);
-    let size = distribute::graded_size(z0, z1, zone_size_m, coarse, layout.growth_ratio);
+    let running = layout.running_zone.map(|r| {
+        (
+            r.start_m,
+            r.start_m + r.length_m,
+            r.element_length_m.max(zone_size_m).min(coarse),
+        )
+    });
+    let size =
+        distribute::nested_graded_size((z0, z1, zone_size_m), running, coarse, layout.growth_ratio);
     distribute::by_size_function(layout.length_m, size, 2)
 }
 
