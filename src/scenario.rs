@@ -40,6 +40,41 @@ pub struct SolutionZoneSpec {
     pub element_length_mm: f64,
 }
 
+impl SolutionZoneSpec {
+    /// Check a rail zone named `name` (`solution_zone`, `running_zone`): positive length,
+    /// element length in `[min_element_mm, max_element_mm]`, inside the track.
+    fn validate(
+        &self,
+        c: &Checker,
+        name: &str,
+        min_element_mm: f64,
+        max_element_mm: f64,
+        track_length_m: f64,
+    ) -> Result<()> {
+        c.positive(&format!("track.{name}.length_m"), self.length_m)?;
+        c.within(
+            &format!("track.{name}.element_length_mm"),
+            self.element_length_mm,
+            min_element_mm,
+            max_element_mm,
+        )?;
+        let end_m = self.start_m + self.length_m;
+        c.require(
+            self.start_m >= 0.0 && end_m <= track_length_m,
+            &format!("track.{name}.start_m"),
+            || {
+                format!(
+                    "the {} [{}, {}] m must lie inside the track [0, {}] m",
+                    name.replace('_', " "),
+                    self.start_m,
+                    end_m,
+                    track_length_m
+                )
+            },
+        )
+    }
+}
+
 /// Sleeper blocks and rail pads.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -222,44 +257,14 @@ impl LoadedScenario {
         )?;
         c.within("track.rail.growth_ratio", t.rail.growth_ratio, 1.01, 2.0)?;
         let z = &t.solution_zone;
-        c.positive("track.solution_zone.length_m", z.length_m)?;
-        c.within(
-            "track.solution_zone.element_length_mm",
-            z.element_length_mm,
-            0.2,
-            100.0,
-        )?;
-        c.require(
-            z.start_m >= 0.0 && z.start_m + z.length_m <= t.length_m,
-            "track.solution_zone.start_m",
-            || {
-                format!(
-                    "the solution zone [{}, {}] m must lie inside the track [0, {}] m",
-                    z.start_m,
-                    z.start_m + z.length_m,
-                    t.length_m
-                )
-            },
-        )?;
+        z.validate(&c, "solution_zone", 0.2, 100.0, t.length_m)?;
         if let Some(r) = &t.running_zone {
-            c.positive("track.running_zone.length_m", r.length_m)?;
-            c.within(
-                "track.running_zone.element_length_mm",
-                r.element_length_mm,
+            r.validate(
+                &c,
+                "running_zone",
                 z.element_length_mm,
                 t.rail.far_element_length_mm,
-            )?;
-            c.require(
-                r.start_m >= 0.0 && r.start_m + r.length_m <= t.length_m,
-                "track.running_zone.start_m",
-                || {
-                    format!(
-                        "the running zone [{}, {}] m must lie inside the track [0, {}] m",
-                        r.start_m,
-                        r.start_m + r.length_m,
-                        t.length_m
-                    )
-                },
+                t.length_m,
             )?;
         }
         let sl = &t.sleeper;

@@ -154,12 +154,18 @@ fn solution_zone_outside_the_track_is_rejected() {
 /// setting is refused with its field named.
 #[test]
 fn running_arc_and_running_zone_errors_name_the_field() {
+    // Replace `s[group][key]` with `value` in the scenario.
+    let set = |group: &'static str, key: &'static str, value: serde_json::Value| {
+        move |s: &mut serde_json::Value| s[group][key] = value.clone()
+    };
     let arc = |size: f64, centre: f64, width: f64| {
-        move |s: &mut serde_json::Value| {
-            s["tread_band"]["running_arc"] = serde_json::json!({
+        set(
+            "tread_band",
+            "running_arc",
+            serde_json::json!({
                 "element_size_mm": size, "arc_centre_deg": centre, "arc_width_deg": width
-            })
-        }
+            }),
+        )
     };
     // The demo's fine band: 6 mm, 155 deg about 72.5 deg; body 20 mm.
     expect_input_error(
@@ -190,11 +196,11 @@ fn running_arc_and_running_zone_errors_name_the_field() {
         &["tread_band.running_arc.arc_width_deg", "point opposite"],
     );
     let zone = |start: f64, length: f64, size: f64| {
-        move |s: &mut serde_json::Value| {
-            s["track"]["running_zone"] = serde_json::json!({
-                "start_m": start, "length_m": length, "element_length_mm": size
-            })
-        }
+        set(
+            "track",
+            "running_zone",
+            serde_json::json!({"start_m": start, "length_m": length, "element_length_mm": size}),
+        )
     };
     // The demo's rail: 6 m long, solution zone at 6 mm, far size 120 mm.
     expect_input_error(
