@@ -30,6 +30,11 @@ pub enum Error {
     /// A numerical failure (no convergence, factorisation failure, instability).
     #[error("numerical: {0}")]
     Numerical(String),
+    /// The user asked the run to stop (Ctrl-C, SIGTERM) before it reached a point it could
+    /// keep: what it wrote is flushed, and the message says what can be resumed (exit code 130,
+    /// the shell's code for an interrupted command).
+    #[error("interrupted: {0}")]
+    Interrupted(String),
 }
 
 impl Error {
@@ -54,10 +59,12 @@ impl Error {
         }
     }
 
-    /// Process exit code: 2 for bad input (as the issues require), 1 otherwise.
+    /// Process exit code: 2 for bad input (as the issues require), 130 for an interrupted run,
+    /// 1 otherwise.
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Input { .. } | Error::Mesh(_) => 2,
+            Error::Interrupted(_) => 130,
             _ => 1,
         }
     }

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use crate::report::run_report::build_report;
-use crate::rolling::{simulate, LoadedCase, SimulateOptions};
+use crate::rolling::{simulate, LoadedCase, SimulateOptions, StopFlag};
 use crate::{Error, Result};
 
 /// A stage that writes `modes.json` into the run directory it is given.
@@ -89,6 +89,7 @@ pub fn run_pipeline(
             resume: false,
             progress: opts.progress,
             end_time_s: opts.end_time_s,
+            stop: StopFlag::new(),
         },
     )?;
     stages.push(("rolling simulation".to_string(), t.elapsed().as_secs_f64()));

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use squeal::report::run_report::Table;
-use squeal::rolling::{load_case, simulate, SimulateOptions};
+use squeal::rolling::{load_case, simulate, SimulateOptions, StopFlag};
 
 fn column<'a>(t: &'a Table, name: &str) -> &'a [f64] {
     let k = t
@@ -30,6 +30,7 @@ fn run_in_temp(
             resume: false,
             progress: false,
             end_time_s,
+            stop: StopFlag::new(),
         },
     )
     .unwrap();
@@ -182,11 +183,37 @@ fn wheel_not_in_contact_after_preload_is_an_error() {
             resume: false,
             progress: false,
             end_time_s: None,
+            stop: StopFlag::new(),
         },
     )
     .expect_err("a flying wheel must be an error");
     assert!(err.to_string().contains("initial_gap_mm"), "{err}");
     assert_eq!(err.exit_code(), 2);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A stop asked for during the static preload ends the run with `Error::Interrupted` (exit code
+/// 130, the shell's code for an interrupted command), not with a half-relaxed start.
+#[test]
+fn stop_during_the_preload_is_an_interruption() {
+    let loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    let dir = std::env::temp_dir().join(format!("squeal_rolling_stop_{}", std::process::id()));
+    let stop = StopFlag::new();
+    stop.request();
+    let err = simulate(
+        &loaded,
+        &SimulateOptions {
+            out_dir: dir.clone(),
+            resume: false,
+            progress: false,
+            end_time_s: None,
+            stop,
+        },
+    )
+    .expect_err("a stopped preload must not start the run");
+    assert!(matches!(err, squeal::Error::Interrupted(_)), "{err}");
+    assert!(err.to_string().contains("preload"), "{err}");
+    assert_eq!(err.exit_code(), 130);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -202,9 +229,40 @@ fn resumed_run_matches_the_uninterrupted_one() {
         resume,
         progress: false,
         end_time_s: end,
+        stop: StopFlag::new(),
     };
     simulate(&loaded, &opts("whole", false, None)).unwrap();
     simulate(&loaded, &opts("split", false, Some(0.001))).unwrap();
+    // A stop asked for (as Ctrl-C does) stops the resumed run at its next step with status
+    // `interrupted` and a checkpoint; resuming again must still give the uninterrupted result.
+    let stop = StopFlag::new();
+    stop.request();
+    let stopped = simulate(
+        &loaded,
+        &SimulateOptions {
+            stop,
+            ..opts("split", true, None)
+        },
+    )
+    .unwrap();
+    assert_eq!(stopped.run.status, "interrupted");
+    assert!(
+        stopped
+            .run
+            .diagnosis
+            .as_deref()
+            .unwrap_or("")
+            .contains("resume"),
+        "{:?}",
+        stopped.run.diagnosis
+    );
+    assert!(
+        (stopped.run.time_s - 0.001).abs() < 1e-9,
+        "{}",
+        stopped.run.time_s
+    );
+    let status = std::fs::read_to_string(base.join("split/status.json")).unwrap();
+    assert!(status.contains("\"interrupted\""), "{status}");
     let resumed = simulate(&loaded, &opts("split", true, None)).unwrap();
     assert_eq!(resumed.run.status, "completed");
     for f in ["contact_forces.csv", "histories.csv"] {

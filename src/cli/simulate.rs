@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use squeal::rolling::{load_case, simulate, SimulateOptions};
+use squeal::rolling::{load_case, simulate, SimulateOptions, StopFlag};
 use squeal::{Error, Result};
 
 /// The five cases of the paper (PAPER.md "Simulation cases") at a resolution: the case files
@@ -55,8 +55,32 @@ pub struct SimulateArgs {
     pub quiet: bool,
 }
 
+/// A stop flag set by Ctrl-C, SIGTERM or SIGHUP: the first signal asks the run to stop at the
+/// next step (it then writes a checkpoint and `status.json`, so `--resume` goes on), a second
+/// one exits at once. Without a handler (it cannot be installed twice) the flag is never set.
+fn stop_on_signal() -> StopFlag {
+    let stop = StopFlag::new();
+    let flag = stop.clone();
+    let installed = ctrlc::set_handler(move || {
+        if flag.is_requested() {
+            eprintln!("\nsecond interrupt: exiting without a checkpoint");
+            std::process::exit(130);
+        }
+        eprintln!(
+            "\ninterrupt: stopping at the next step and writing a checkpoint \
+             (interrupt again to exit at once)"
+        );
+        flag.request();
+    });
+    if let Err(e) = installed {
+        eprintln!("warning: no Ctrl-C handler ({e}); an interrupt will lose the work since the last checkpoint");
+    }
+    stop
+}
+
 /// Run `squeal simulate`.
 pub fn run(args: SimulateArgs) -> Result<()> {
+    let stop = stop_on_signal();
     let cases: Vec<(PathBuf, PathBuf)> = if args.all_cases {
         all_cases(args.resolution)
             .iter()
@@ -93,6 +117,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             resume: args.resume,
             progress: !args.quiet,
             end_time_s: args.end_time_ms.map(|t| t * 1e-3),
+            stop: stop.clone(),
         };
         println!(
             "case {} ({}) -> {}",
@@ -126,6 +151,15 @@ pub fn run(args: SimulateArgs) -> Result<()> {
                 record.case,
                 record.longest_contact_loss_s * 1e3,
                 squeal::rolling::LIFT_OFF_LIMIT_S * 1e3,
+                out.display()
+            )));
+        }
+        if record.run.status == "interrupted" {
+            return Err(Error::Interrupted(format!(
+                "case {}: {}: `squeal simulate --scenario {} --out {} --resume`",
+                record.case,
+                record.run.diagnosis.unwrap_or_default(),
+                case_path.display(),
                 out.display()
             )));
         }

@@ -16,6 +16,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::run::StopFlag;
 use super::solver::{AuxForces, Solver};
 use crate::mesh::P3;
 use crate::{Error, Result};
@@ -28,7 +29,7 @@ use crate::{Error, Result};
 const MAX_ALPHA_DT: f64 = 0.1;
 
 /// Options of the relaxation.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug)]
 pub struct PreloadOptions {
     /// Relative residual `|f_ext - f_int| / |f_ext|` to reach.
     pub tolerance: f64,
@@ -48,6 +49,8 @@ pub struct PreloadOptions {
     /// Leave the velocities as they are at the end, so that a relaxation done in stages (with
     /// changes between them) goes on as one; by default the model is stopped.
     pub keep_velocities: bool,
+    /// Give up with [`Error::Interrupted`] when set (the relaxation has no checkpoint).
+    pub stop: StopFlag,
 }
 
 impl Default for PreloadOptions {
@@ -61,6 +64,7 @@ impl Default for PreloadOptions {
             fixed_damping_per_s: None,
             require_convergence: true,
             keep_velocities: false,
+            stop: StopFlag::new(),
         }
     }
 }
@@ -101,6 +105,13 @@ pub fn relax<A: AuxForces + ?Sized>(
     // omega^2 ~ (du . d(f_int - f_aux)) / (du . M du).
     let mut previous: Option<(Vec<P3>, Vec<P3>)> = None;
     while steps < opts.max_steps {
+        if opts.stop.is_requested() {
+            solver.model.mass_damping_per_s = saved_alpha;
+            return Err(Error::Interrupted(format!(
+                "stopped on request during the static preload, after {steps} steps of a stage; \
+                 the preload keeps no checkpoint: start the run again (without --resume)"
+            )));
+        }
         solver.model.mass_damping_per_s = alpha;
         solver.step_with(aux, false, false)?;
         solver.time_s = t0; // loads held at t0

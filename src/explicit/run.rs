@@ -16,6 +16,8 @@
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
@@ -50,6 +52,30 @@ pub struct HistoryProbe {
     pub direction: usize,
 }
 
+/// A request to stop a run cleanly at the next step, set from a signal handler (the `squeal`
+/// binary sets it on Ctrl-C / SIGTERM) or another thread. The run then flushes its files, writes
+/// a checkpoint of the step it reached and `status.json` with status `interrupted`, so that
+/// `--resume` goes on from there: a stopped run loses no work. Clones share the flag.
+#[derive(Clone, Debug, Default)]
+pub struct StopFlag(Arc<AtomicBool>);
+
+impl StopFlag {
+    /// A flag that is not set.
+    pub fn new() -> StopFlag {
+        StopFlag::default()
+    }
+
+    /// Asks every run holding this flag (or a clone) to stop.
+    pub fn request(&self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether a stop was asked for. One relaxed load: cheap enough to test every step.
+    pub fn is_requested(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
 /// Options of a run.
 #[derive(Clone, Debug)]
 pub struct RunOptions {
@@ -73,6 +99,8 @@ pub struct RunOptions {
     pub progress: bool,
     /// Stop when the energy balance error exceeds this fraction of the energy.
     pub balance_threshold: f64,
+    /// Stop cleanly (checkpoint, status `interrupted`) when this is set.
+    pub stop: StopFlag,
 }
 
 impl RunOptions {
@@ -90,6 +118,7 @@ impl RunOptions {
             resume: false,
             progress: false,
             balance_threshold: 0.05,
+            stop: StopFlag::new(),
         }
     }
 }
@@ -97,9 +126,10 @@ impl RunOptions {
 /// What a run returns.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RunSummary {
-    /// "completed" or "unstable".
+    /// "completed", "unstable" or "interrupted" (stopped on request; a checkpoint of the step
+    /// reached was written, `--resume` goes on).
     pub status: String,
-    /// Diagnosis when unstable.
+    /// Diagnosis when unstable, or where an interrupted run stopped.
     pub diagnosis: Option<String>,
     /// Steps taken (in total, across resumes).
     pub steps: u64,
@@ -233,7 +263,12 @@ pub fn run<A: AuxForces + ?Sized>(
     let mut max_ratio: f64 = 0.0;
     let mut row = String::with_capacity(32 * (opts.probes.len() + 1));
     let mut failure: Option<Error> = None;
+    let mut interrupted = false;
     for k in 0..total_steps {
+        if opts.stop.is_requested() {
+            interrupted = true;
+            break;
+        }
         let n = solver.step;
         let sample = n.is_multiple_of(per_sample);
         let energy = sample && (n / per_sample).is_multiple_of(opts.energy_every_samples.max(1));
@@ -307,18 +342,31 @@ pub fn run<A: AuxForces + ?Sized>(
     bar.finish_and_clear();
     hist.flush().map_err(io(&hist_path))?;
     energy_csv.flush().map_err(io(&energy_path))?;
-    if failure.is_none() && opts.checkpoint_every_steps > 0 {
+    // An interrupted run always gets its checkpoint: that is what makes stopping safe.
+    if failure.is_none() && (opts.checkpoint_every_steps > 0 || interrupted) {
         write_checkpoint(solver, &aux.checkpoint_state(), &ckpt_path)?;
     }
     let wall_s = wall.elapsed().as_secs_f64();
     let summary = RunSummary {
         status: if failure.is_some() {
             "unstable"
+        } else if interrupted {
+            "interrupted"
         } else {
             "completed"
         }
         .to_string(),
-        diagnosis: failure.as_ref().map(|e| e.to_string()),
+        diagnosis: match &failure {
+            Some(e) => Some(e.to_string()),
+            None if interrupted => Some(format!(
+                "stopped on request at t = {:.6} ms (step {}); checkpoint written to {}, \
+                 a resume goes on from it",
+                solver.time_s * 1e3,
+                solver.step,
+                ckpt_path.display()
+            )),
+            None => None,
+        },
         steps: solver.step,
         time_s: solver.time_s,
         time_step_s: solver.dt_s,

@@ -42,6 +42,7 @@ use crate::explicit::{AuxForces, Curve, ElasticMaterial, Formulation, Model, Sol
 use crate::mesh::{material, P3};
 use crate::{Error, Result};
 
+pub use crate::explicit::run::StopFlag;
 pub use case::{embedded_default_case, load_case, LoadedCase, RollingCase};
 
 /// Standard gravity (m/s^2).
@@ -370,7 +371,11 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
 /// the residual is a norm over all nodes: the wheelset still sinking slowly into the track as
 /// one body (an overdamped mode) leaves a few kN spread over thousands of nodes, which that
 /// norm does not see (measured on the 1 mm model: residual 9e-4 with 8 % of the load missing).
-fn staged_preload(m: &mut RollingModel, preload: &case::PreloadSpec) -> Result<PreloadReport> {
+fn staged_preload(
+    m: &mut RollingModel,
+    preload: &case::PreloadSpec,
+    stop: &StopFlag,
+) -> Result<PreloadReport> {
     // Stages of a tenth of the step budget: the axle box moves little within one, so each
     // put-back disturbs the wheel by a few hundred newtons at most.
     let per_stage = (preload.max_steps / 10).max(1);
@@ -390,6 +395,7 @@ fn staged_preload(m: &mut RollingModel, preload: &case::PreloadSpec) -> Result<P
                 // A stage ends early once the residual is small; the relaxation goes on in the
                 // next (velocities are zeroed below, when it is over).
                 keep_velocities: true,
+                stop: stop.clone(),
                 ..Default::default()
             },
         )?;
@@ -851,6 +857,10 @@ pub struct SimulateOptions {
     pub progress: bool,
     /// Override of the case's end time (s), e.g. for quick checks.
     pub end_time_s: Option<f64>,
+    /// Stop cleanly when set: during the rolling run a checkpoint is written and the record's
+    /// status is `interrupted` (resume goes on); during the preload the result is
+    /// [`Error::Interrupted`].
+    pub stop: StopFlag,
 }
 
 /// `run.json`: what was run and what came out.
@@ -925,7 +935,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         // saturated at the bound before the wheel has even started rolling.
         let friction = m.contact.pair.friction;
         m.contact.pair.friction = crate::contact::FrictionLaw::Coulomb { mu: 0.0 };
-        let report = staged_preload(&mut m, &case.preload);
+        let report = staged_preload(&mut m, &case.preload, &opts.stop);
         m.solver.clear_inertia_scaling();
         m.contact.pair.friction = friction;
         for st in m.contact.pair.state.iter_mut() {
@@ -985,6 +995,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         resume: opts.resume,
         progress: opts.progress,
         balance_threshold: 0.05,
+        stop: opts.stop.clone(),
     };
     m.contact.resuming = opts.resume;
     let summary = run(&mut m.solver, &mut m.contact, &run_opts)?;

@@ -1,0 +1,145 @@
+//! `squeal simulate` from the command line: a run stopped by a signal keeps its work (exit code
+//! 130, status `interrupted`, a checkpoint) and `--resume` goes on from it; bad input exits 2.
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+fn squeal() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_squeal"))
+}
+
+fn temp_dir(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("squeal-cli-sim-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+/// The tiny CI case with a longer end time (so that a signal lands inside the rolling run) and
+/// the model path made absolute (the copy lives in a temp directory).
+fn long_tiny_case(dir: &Path, end_time_s: f64) -> PathBuf {
+    let mut case: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string("data/scenarios/case3-ci.json").expect("case"),
+    )
+    .expect("json");
+    let model = std::fs::canonicalize("data/scenarios/ci-tiny.json").expect("model");
+    case["model_scenario"] = serde_json::Value::String(model.display().to_string());
+    case["end_time_s"] = serde_json::json!(end_time_s);
+    case["output"]["vtu_times_s"] = serde_json::json!([]);
+    let path = dir.join("case.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&case).unwrap()).unwrap();
+    path
+}
+
+fn column(csv: &str, name: &str) -> Vec<f64> {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let k = header.iter().position(|h| *h == name).expect("column");
+    lines
+        .map(|l| l.split(',').nth(k).unwrap().parse::<f64>().unwrap())
+        .collect()
+}
+
+#[cfg(unix)]
+#[test]
+fn sigterm_stops_with_a_checkpoint_and_resume_goes_on() {
+    let dir = temp_dir("sigterm");
+    // 50 ms of the tiny case: tens of seconds of rolling, so the signal, sent as soon as the
+    // rolling run has written its first samples, arrives long before the end.
+    let case = long_tiny_case(&dir, 0.05);
+    let out = dir.join("run");
+    let mut child = squeal()
+        .args(["simulate", "--quiet", "--scenario"])
+        .arg(&case)
+        .arg("--out")
+        .arg(&out)
+        .spawn()
+        .expect("spawn squeal");
+    let started = Instant::now();
+    let histories = out.join("histories.csv");
+    while std::fs::metadata(&histories).map(|m| m.len()).unwrap_or(0) == 0 {
+        assert!(
+            started.elapsed() < Duration::from_secs(600),
+            "the rolling run never started"
+        );
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!("squeal exited before the signal: {status}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let kill = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(kill.success());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "exit status {status}");
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("status.json")).unwrap()).unwrap();
+    assert_eq!(record["status"], "interrupted", "{record}");
+    let stopped_at_s = record["time_s"].as_f64().unwrap();
+    assert!(stopped_at_s > 0.0 && stopped_at_s < 0.05, "{stopped_at_s}");
+    assert!(out.join("checkpoint.bin").exists());
+
+    // Resume for 0.2 ms more: completes, and the histories go on without a gap or a repeat.
+    let end_ms = stopped_at_s * 1e3 + 0.2;
+    let resumed = squeal()
+        .args(["simulate", "--quiet", "--resume", "--scenario"])
+        .arg(&case)
+        .arg("--out")
+        .arg(&out)
+        .args(["--end-time-ms", &format!("{end_ms}")])
+        .output()
+        .expect("resume");
+    assert!(
+        resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("status.json")).unwrap()).unwrap();
+    assert_eq!(record["status"], "completed", "{record}");
+    // Samples every 20 us (50 kHz): consecutive times differ by one interval everywhere,
+    // across the stop, to the rounding of the printed times (1e-9 relative).
+    for file in ["contact_forces.csv", "histories.csv"] {
+        let t = column(&std::fs::read_to_string(out.join(file)).unwrap(), "time_s");
+        assert!(t.len() > 10, "{file}: {} rows", t.len());
+        for w in t.windows(2) {
+            assert!(
+                ((w[1] - w[0]) - 2e-5).abs() < 1e-9,
+                "{file}: samples at {} and {} s",
+                w[0],
+                w[1]
+            );
+        }
+        assert!(
+            *t.last().unwrap() > end_ms * 1e-3 - 4e-5,
+            "{file} ends at {}",
+            t.last().unwrap()
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn missing_case_file_names_it_and_exits_2() {
+    let dir = temp_dir("missing");
+    let out = squeal()
+        .args([
+            "simulate",
+            "--quiet",
+            "--scenario",
+            "no/such/case.json",
+            "--out",
+        ])
+        .arg(dir.join("run"))
+        .output()
+        .expect("run squeal");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("no/such/case.json") && err.contains("--scenario"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
