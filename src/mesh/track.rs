@@ -164,7 +164,8 @@ pub fn sleeper_positions(layout: &TrackLayout) -> Vec<f64> {
 
 /// Build the track mesh: rail + sleepers, with node sets `rail_running_surface`,
 /// `rail_foot_bottom`, `rail_ends`, `rail_pad_<k>` / `rail_pads`, `sleeper_top_<k>` /
-/// `sleeper_tops`, `sleeper_bottom_<k>` / `sleeper_bottoms` and surface `rail_top`.
+/// `sleeper_tops`, `sleeper_bottom_<k>` / `sleeper_bottoms`, `sleeper_centre_faces` (the
+/// sleepers' cut at the track centre) and surface `rail_top`.
 pub fn track_mesh(layout: &TrackLayout) -> Mesh {
     let section = rail_section(RailSectionSizes {
         running_surface_mm: layout.running_surface_element_mm,
@@ -235,7 +236,13 @@ pub fn track_mesh(layout: &TrackLayout) -> Mesh {
         let bottoms: Vec<usize> = (0..=nx)
             .flat_map(|i| (0..=ny).map(move |j| id(i, j, 0)))
             .collect();
+        // The half sleeper's cut at the track centre (y = sleeper_y_min_m): the half-track
+        // model's plane of symmetry.
+        let centre_face: Vec<usize> = (0..=nx)
+            .flat_map(|i| (0..=nz).map(move |l| id(i, 0, l)))
+            .collect();
         mesh.append(block);
+        mesh.add_node_set("sleeper_centre_faces", centre_face);
         mesh.add_node_set(&format!("sleeper_top_{k}"), tops.iter().copied());
         mesh.add_node_set(&format!("sleeper_bottom_{k}"), bottoms.iter().copied());
         mesh.add_node_set("sleeper_tops", tops);

@@ -181,6 +181,15 @@ pub struct RollingCase {
     /// Rayleigh mass-proportional damping of the run (1/s).
     #[serde(default)]
     pub mass_damping_per_s: f64,
+    /// Hold the sleepers' cut at the track centre laterally: the half track's plane of
+    /// symmetry, which a full sleeper under a symmetric axle load has. Default false, the
+    /// paper's model (PAPER.md: sleeper supports constrained laterally and longitudinally,
+    /// ballast vertical): there a half sleeper, held laterally only at its bottom face, tilts
+    /// about the track axis as a rigid body under the off-centre wheel load, and the tilt moves
+    /// the rail seat sideways (0.2 mm under the passing wheel on the demo track). With the cut
+    /// held, the tilt has to bend the sleeper (README, "What `paper` case 3 showed").
+    #[serde(default)]
+    pub track_centre_symmetry: bool,
     /// Static preload.
     pub preload: PreloadSpec,
     /// Output.

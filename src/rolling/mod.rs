@@ -215,6 +215,9 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
     // Track supports.
     model.fix_set("rail_ends", [true, true, false])?;
     model.fix_set("sleeper_bottoms", [true, true, false])?;
+    if case.track_centre_symmetry {
+        model.fix_set("sleeper_centre_faces", [false, true, false])?;
+    }
     let pad = case.rail_pad;
     let shear = pad.shear_fraction;
     for k in 0..sleeper_count {
