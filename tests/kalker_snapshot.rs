@@ -12,17 +12,13 @@ use squeal::kalker::Material;
 
 const CURVATURES: (f64, f64) = (1.0 / 0.92, 1.0 / 0.6); // flat 0.46 m wheel on an R300 crown
 
-fn snapshot_from_kalker(xi: f64, eta: f64) -> PatchSnapshot {
+fn snapshot_from_kalker(xi: f64, eta: f64, phi_per_m: f64) -> PatchSnapshot {
     let material = Material::validated(210e9, 0.3, "test").expect("material");
     let hertz =
         HertzContact::from_curvatures(CURVATURES.0, CURVATURES.1, 100e3, material).expect("hertz");
     let solver = RollingSolver::new(&hertz, 0.45, Method::Exact, 40).expect("solver");
     let s = solver
-        .solve(&Creepages {
-            xi,
-            eta,
-            phi_per_m: 0.0,
-        })
+        .solve(&Creepages { xi, eta, phi_per_m })
         .expect("solve");
     PatchSnapshot {
         time_s: 0.018,
@@ -46,8 +42,9 @@ fn snapshot_from_kalker(xi: f64, eta: f64) -> PatchSnapshot {
 fn round_trip_recovers_creepages_and_orientation() {
     let material = Material::validated(210e9, 0.3, "test").expect("material");
     let (xi, eta) = (-1e-3, -1e-3);
-    let snap = snapshot_from_kalker(xi, eta);
-    let cmp = compare_snapshot(&snap, CURVATURES, material, Method::Exact, 40).expect("compare");
+    let snap = snapshot_from_kalker(xi, eta, 0.0);
+    let cmp =
+        compare_snapshot(&snap, CURVATURES, material, Method::Exact, 40, 0.0).expect("compare");
     assert!(cmp.kalker.unique);
     // The inverse solves to 1e-6 relative in forces; creepages follow to ~1e-4 relative.
     assert!(
@@ -73,17 +70,50 @@ fn round_trip_recovers_creepages_and_orientation() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A patch with spin: Kalker's solution for (xi, eta, phi) prescribed back as forces with the
+/// same spin returns (xi, eta); with the spin left out, the spin's lateral force is read as
+/// lateral creepage. Spin 0.17 /m is the `paper` wheel's sin(contact angle) / R (0.078 / 0.46).
+#[test]
+fn round_trip_with_spin_recovers_the_creepages() {
+    let material = Material::validated(210e9, 0.3, "test").expect("material");
+    let (xi, eta, phi) = (-1e-3, -0.5e-3, 0.17);
+    let snap = snapshot_from_kalker(xi, eta, phi);
+    let with_spin =
+        compare_snapshot(&snap, CURVATURES, material, Method::Exact, 40, phi).expect("compare");
+    // As in the round trip without spin: forces to 1e-6, creepages to about 1e-4 relative.
+    assert!(
+        (with_spin.kalker.creepages.xi - xi).abs() < 1e-3 * xi.abs(),
+        "xi {}",
+        with_spin.kalker.creepages.xi
+    );
+    assert!(
+        (with_spin.kalker.creepages.eta - eta).abs() < 1e-3 * eta.abs(),
+        "eta {}",
+        with_spin.kalker.creepages.eta
+    );
+    let without =
+        compare_snapshot(&snap, CURVATURES, material, Method::Exact, 40, 0.0).expect("compare");
+    let eta_error = (without.kalker.creepages.eta - eta).abs();
+    eprintln!(
+        "eta {eta:e}: with the spin {:e}, without {:e}",
+        with_spin.kalker.creepages.eta, without.kalker.creepages.eta
+    );
+    // Leaving the spin out shifts eta by more than a fifth of its value here.
+    assert!(eta_error > 0.2 * eta.abs(), "eta without spin {eta_error}");
+}
+
 #[test]
 fn orientation_grows_with_lateral_creepage() {
     let material = Material::validated(210e9, 0.3, "test").expect("material");
     let mut angles = Vec::new();
     for eta in [0.0, -0.5e-3, -1.5e-3] {
         let cmp = compare_snapshot(
-            &snapshot_from_kalker(-1e-3, eta),
+            &snapshot_from_kalker(-1e-3, eta, 0.0),
             CURVATURES,
             material,
             Method::Exact,
             40,
+            0.0,
         )
         .expect("compare");
         angles.push(cmp.kalker_orientation_deg.map(f64::abs).unwrap_or(0.0));
@@ -99,7 +129,7 @@ fn compare_command_writes_maps_and_rejects_bad_snapshots() {
     let snap_path = dir.join("snap.json");
     std::fs::write(
         &snap_path,
-        serde_json::to_string(&snapshot_from_kalker(-1e-3, -1e-3)).expect("json"),
+        serde_json::to_string(&snapshot_from_kalker(-1e-3, -1e-3, 0.0)).expect("json"),
     )
     .expect("write");
     let out = dir.join("out");
@@ -129,7 +159,7 @@ fn compare_command_writes_maps_and_rejects_bad_snapshots() {
             .expect("parse");
     assert!((summary["eta"].as_f64().expect("eta") + 1e-3).abs() < 1e-6);
     assert!(out.join("patch_fe.png").exists() && out.join("patch_kalker.png").exists());
-    let mut bad = snapshot_from_kalker(-1e-3, 0.0);
+    let mut bad = snapshot_from_kalker(-1e-3, 0.0, 0.0);
     bad.mu = 0.0;
     let bad_path = dir.join("bad.json");
     std::fs::write(&bad_path, serde_json::to_string(&bad).expect("json")).expect("write");

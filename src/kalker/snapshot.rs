@@ -87,13 +87,17 @@ pub fn orientation_deg(points: &[(f64, f64, f64)]) -> Option<f64> {
 }
 
 /// Compare an FE snapshot with Kalker's theory for the given contact (curvatures from the
-/// profiles or the crown radii) and method.
+/// profiles or the crown radii) and method. The FE forces are prescribed together with the
+/// spin creepage `spin_per_m` (1/m; for a wheel rolling at a contact angle `gamma` about
+/// `sin(gamma) / R`), and Kalker returns the longitudinal and lateral creepages. With spin left
+/// at zero, a lateral force that the FE contact's spin produces is read as lateral creepage.
 pub fn compare_snapshot(
     snapshot: &PatchSnapshot,
     hertz_curvatures_per_m: (f64, f64),
     material: Material,
     method: Method,
     elements_per_axis: usize,
+    spin_per_m: f64,
 ) -> Result<SnapshotComparison> {
     if snapshot.points.is_empty() {
         return Err(Error::input(
@@ -114,7 +118,7 @@ pub fn compare_snapshot(
         (hertz.semi_axis_a_m, hertz.semi_axis_b_m),
         snapshot.force_x_n,
         snapshot.force_y_n,
-        0.0,
+        spin_per_m,
     )?;
     let fe_adhesion: Vec<(f64, f64, f64)> = snapshot
         .points
