@@ -26,6 +26,7 @@ fn snapshot_from_kalker(xi: f64, eta: f64, phi_per_m: f64) -> PatchSnapshot {
         force_x_n: s.force_x_n,
         force_y_n: s.force_y_n,
         mu: 0.45,
+        normal_lateral_fraction: None,
         points: (0..s.x_m.len())
             .filter(|&k| s.state[k] != ElementState::Exterior)
             .map(|k| PatchPoint {
@@ -159,6 +160,28 @@ fn compare_command_writes_maps_and_rejects_bad_snapshots() {
             .expect("parse");
     assert!((summary["eta"].as_f64().expect("eta") + 1e-3).abs() < 1e-6);
     assert!(out.join("patch_fe.png").exists() && out.join("patch_kalker.png").exists());
+    // Without --phi the command takes the spin from the snapshot's contact normal: a
+    // snapshot of Kalker's solution with the spin sin(gamma) / R comes back with its eta.
+    let sine = -0.078;
+    let mut spun = snapshot_from_kalker(-1e-3, -0.5e-3, sine / 0.46);
+    spun.normal_lateral_fraction = Some(sine);
+    let spun_path = dir.join("spun.json");
+    std::fs::write(&spun_path, serde_json::to_string(&spun).expect("json")).expect("write");
+    let ok = run(&spun_path);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("comparison.json")).expect("json"))
+            .expect("parse");
+    assert!((summary["phi_per_m"].as_f64().expect("phi") - sine / 0.46).abs() < 1e-12);
+    // The round trip's accuracy, as above: creepages to about 1e-4 relative.
+    assert!(
+        (summary["eta"].as_f64().expect("eta") + 0.5e-3).abs() < 1e-3 * 0.5e-3,
+        "{summary}"
+    );
     let mut bad = snapshot_from_kalker(-1e-3, 0.0, 0.0);
     bad.mu = 0.0;
     let bad_path = dir.join("bad.json");

@@ -59,6 +59,27 @@ fn tiny_case_runs_and_keeps_the_contact_invariants() {
         assert!(dir.join(f).exists(), "{f} missing");
     }
     let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
+    // The patch snapshot's contact normal is the one in the force history: the normal force's
+    // lateral part, total lateral force less its friction part, over the normal force.
+    let snapshot: squeal::kalker::snapshot::PatchSnapshot = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("patches/patch_0001500.0us.json")).unwrap(),
+    )
+    .unwrap();
+    let sample = column(&forces, "time_s")
+        .iter()
+        .position(|&t| (t - snapshot.time_s).abs() < 1e-9)
+        .expect("a force sample at the snapshot time");
+    let from_forces = (column(&forces, "lateral_force_n")[sample]
+        - column(&forces, "lateral_creep_force_n")[sample])
+        / column(&forces, "normal_force_n")[sample];
+    let sine = snapshot.normal_lateral_fraction.expect("contact normal");
+    // Same step; the CSV's normal force is the sum of the nodal normal forces, the snapshot's
+    // the length of their vector sum, which the patch's curvature makes shorter by well under
+    // 1 % (0.14 % here).
+    assert!(
+        (sine - from_forces).abs() < 0.01 * sine.abs(),
+        "snapshot normal {sine} against {from_forces} from contact_forces.csv"
+    );
     let creep = column(&forces, "creep_force_n");
     let bound = column(&forces, "traction_bound_n");
     let normal = column(&forces, "normal_force_n");

@@ -57,11 +57,11 @@ struct CompareArgs {
     /// Rail crown radius (m).
     #[arg(long, default_value_t = 0.3, allow_hyphen_values = true)]
     rail_radius: f64,
-    /// Spin creepage phi (1/m) of the FE contact, prescribed with its forces; about
-    /// sin(contact angle) / R (the normal force's lateral part over the normal force, in
-    /// contact_forces.csv: (lateral_force_n - lateral_creep_force_n) / normal_force_n).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    phi: f64,
+    /// Spin creepage phi (1/m) of the FE contact, prescribed with its forces. Default: the
+    /// snapshot's `normal_lateral_fraction` (sine of the contact angle) over --wheel-radius,
+    /// or 0 when the snapshot has none.
+    #[arg(long, allow_hyphen_values = true)]
+    phi: Option<f64>,
     /// Theory.
     #[arg(long, value_enum, default_value_t = MethodArg::Exact)]
     method: MethodArg,
@@ -351,14 +351,29 @@ fn run_compare(args: CompareArgs) -> Result<()> {
         MethodArg::Exact => Method::Exact,
         MethodArg::Fastsim => Method::Fastsim,
     };
-    let cmp = compare_snapshot(&snapshot, curvatures, material, method, args.grid, args.phi)?;
+    let (phi_per_m, phi_source) = match (args.phi, snapshot.normal_lateral_fraction) {
+        (Some(phi), _) => (phi, "--phi"),
+        (None, Some(sine)) => (sine / args.wheel_radius, "normal_lateral_fraction / R"),
+        (None, None) => (0.0, "none (0)"),
+    };
+    if !phi_per_m.is_finite() {
+        return Err(Error::input(
+            &source,
+            "normal_lateral_fraction",
+            format!("gives a spin that is not finite ({phi_per_m})"),
+        ));
+    }
+    let cmp = compare_snapshot(
+        &snapshot, curvatures, material, method, args.grid, phi_per_m,
+    )?;
     std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
     write_comparison_charts(&snapshot, &cmp, &args.out)?;
     let summary = json!({
         "time_s": snapshot.time_s,
         "xi": cmp.kalker.creepages.xi,
         "eta": cmp.kalker.creepages.eta,
-        "phi_per_m": args.phi,
+        "phi_per_m": phi_per_m,
+        "phi_source": phi_source,
         "unique": cmp.kalker.unique,
         "note": cmp.kalker.note,
         "fe_orientation_deg": cmp.fe_orientation_deg,

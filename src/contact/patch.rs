@@ -112,6 +112,7 @@ pub fn write_snapshot(
         } else {
             0.0
         },
+        normal_lateral_fraction: (normal_force > 0.0).then(|| normal[1] / normal_force),
         points: nodes
             .iter()
             .map(|p| PatchPoint {

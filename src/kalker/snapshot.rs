@@ -46,6 +46,13 @@ pub struct PatchSnapshot {
     pub force_y_n: f64,
     /// Friction coefficient.
     pub mu: f64,
+    /// Lateral (y) component of the unit resultant normal force on the wheel: the sine of the
+    /// contact angle. The wheel's spin `V / R` about its axle (y) projected on this normal
+    /// gives the contact's spin creepage `phi = normal_lateral_fraction / R` (1/m), which
+    /// `squeal kalker compare` uses when `--phi` is not given. Absent in snapshots from
+    /// elsewhere (spin 0 then).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal_lateral_fraction: Option<f64>,
     /// Patch points.
     pub points: Vec<PatchPoint>,
 }
