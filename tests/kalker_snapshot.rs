@@ -182,6 +182,16 @@ fn compare_command_writes_maps_and_rejects_bad_snapshots() {
         (summary["eta"].as_f64().expect("eta") + 0.5e-3).abs() < 1e-3 * 0.5e-3,
         "{summary}"
     );
+    // A spin that is not a number is refused with the snapshot's name.
+    let nan = std::process::Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .args(["kalker", "compare", "--snapshot"])
+        .arg(&spun_path)
+        .args(["--phi", "NaN", "--grid", "40", "--out"])
+        .arg(&out)
+        .output()
+        .expect("run");
+    assert_eq!(nan.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&nan.stderr).contains("spun.json"));
     let mut bad = snapshot_from_kalker(-1e-3, 0.0, 0.0);
     bad.mu = 0.0;
     let bad_path = dir.join("bad.json");

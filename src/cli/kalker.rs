@@ -359,8 +359,8 @@ fn run_compare(args: CompareArgs) -> Result<()> {
     if !phi_per_m.is_finite() {
         return Err(Error::input(
             &source,
-            "normal_lateral_fraction",
-            format!("gives a spin that is not finite ({phi_per_m})"),
+            phi_source,
+            format!("the spin creepage must be finite (got {phi_per_m})"),
         ));
     }
     let cmp = compare_snapshot(
