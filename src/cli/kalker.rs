@@ -62,6 +62,11 @@ struct CompareArgs {
     /// or 0 when the snapshot has none.
     #[arg(long, allow_hyphen_values = true)]
     phi: Option<f64>,
+    /// Solve Kalker's exact problem on the undeformed gap of the S1002 and 54E1 profiles at
+    /// --wheel-y (non-Hertzian, as CONTACT does) instead of a Hertz ellipse (needs --wheel-y
+    /// and the exact method).
+    #[arg(long)]
+    profile_gap: bool,
     /// Theory.
     #[arg(long, value_enum, default_value_t = MethodArg::Exact)]
     method: MethodArg,
@@ -328,7 +333,9 @@ fn finish(
 }
 
 fn run_compare(args: CompareArgs) -> Result<()> {
-    use squeal::kalker::snapshot::{compare_snapshot, write_comparison_charts, PatchSnapshot};
+    use squeal::kalker::snapshot::{
+        compare_snapshot, compare_snapshot_on_profiles, write_comparison_charts, PatchSnapshot,
+    };
     let snapshot: PatchSnapshot = squeal::input::read_json(&args.snapshot)?;
     let source = args.snapshot.display().to_string();
     if !(snapshot.normal_force_n.is_finite() && snapshot.normal_force_n > 0.0) {
@@ -363,9 +370,45 @@ fn run_compare(args: CompareArgs) -> Result<()> {
             format!("the spin creepage must be finite (got {phi_per_m})"),
         ));
     }
-    let cmp = compare_snapshot(
-        &snapshot, curvatures, material, method, args.grid, phi_per_m,
-    )?;
+    let cmp = if args.profile_gap {
+        let Some(wheel_y_m) = args.wheel_y else {
+            return Err(Error::input(
+                "command line",
+                "--profile-gap",
+                "needs --wheel-y (the tape circle's lateral position on the rail)",
+            ));
+        };
+        if method != Method::Exact {
+            return Err(Error::input(
+                "command line",
+                "--profile-gap",
+                "needs --method exact (FASTSIM is Hertzian)",
+            ));
+        }
+        compare_snapshot_on_profiles(
+            &snapshot,
+            wheel_y_m,
+            args.wheel_radius,
+            material,
+            args.grid,
+            phi_per_m,
+        )?
+    } else {
+        compare_snapshot(
+            &snapshot, curvatures, material, method, args.grid, phi_per_m,
+        )?
+    };
+    let solution = &cmp.kalker.solution;
+    let kalker_area_m2: f64 = (0..solution.x_m.len())
+        .filter(|&k| solution.pressure_pa[k] > 0.0)
+        .map(|k| solution.area_m2[k])
+        .sum();
+    let kalker_peak_pa = solution.pressure_pa.iter().copied().fold(0.0, f64::max);
+    let fe_peak_pa = snapshot
+        .points
+        .iter()
+        .map(|p| p.pressure_pa)
+        .fold(0.0, f64::max);
     std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
     write_comparison_charts(&snapshot, &cmp, &args.out)?;
     let summary = json!({
@@ -374,6 +417,11 @@ fn run_compare(args: CompareArgs) -> Result<()> {
         "eta": cmp.kalker.creepages.eta,
         "phi_per_m": phi_per_m,
         "phi_source": phi_source,
+        "kalker_geometry": if args.profile_gap { "profiles" } else { "hertz" },
+        "kalker_contact_area_m2": kalker_area_m2,
+        "kalker_peak_pressure_pa": kalker_peak_pa,
+        "fe_contact_points": snapshot.points.iter().filter(|p| p.pressure_pa > 0.0).count(),
+        "fe_peak_pressure_pa": fe_peak_pa,
         "unique": cmp.kalker.unique,
         "note": cmp.kalker.note,
         "fe_orientation_deg": cmp.fe_orientation_deg,

@@ -120,9 +120,151 @@ pub fn compare_snapshot(
         material,
     )?;
     let solver = RollingSolver::new(&hertz, snapshot.mu, method, elements_per_axis)?;
-    let kalker = solve_force_prescribed(
+    compare_with_solver(
+        snapshot,
         &solver,
         (hertz.semi_axis_a_m, hertz.semi_axis_b_m),
+        spin_per_m,
+    )
+}
+
+/// Compare an FE snapshot with Kalker's exact half-space solution on the undeformed gap of the
+/// S1002 wheel (tape-circle radius `wheel_radius_m`) on the 1:40 54E1 rail with the tape
+/// circle at `wheel_y_m` (CONTACT's non-Hertzian mode). Where the contact straddles a junction
+/// of the crown's arcs, or two points of the profiles come close, the patch is not elliptic, as
+/// the FE patch is not.
+///
+/// Grid: it must hold every point the bodies' approach can close, not only the first point of
+/// contact (near a two-point contact the second point is centimetres away). Along y it spans,
+/// with a 10 % margin, the lateral range where the undeformed gap at x = 0,
+/// `g(y) = max(h) - h(y)` with `h = rail height + wheel radius increment`, is below twice the
+/// Hertz approach `delta` at the first point of contact; along x, `|x| <= sqrt(4 R delta)`
+/// (the wheel circle's gap `x^2 / 2R` at `2 delta`). It is widened (up to three times) while
+/// the pressure still reaches its edge. The creepages returned are about the first point of
+/// contact (with spin, xi depends on the origin).
+pub fn compare_snapshot_on_profiles(
+    snapshot: &PatchSnapshot,
+    wheel_y_m: f64,
+    wheel_radius_m: f64,
+    material: Material,
+    elements_per_axis: usize,
+    spin_per_m: f64,
+) -> Result<SnapshotComparison> {
+    if snapshot.points.is_empty() {
+        return Err(Error::input(
+            "snapshot",
+            "points",
+            "the FE patch has no contact points",
+        ));
+    }
+    if !(16..=400).contains(&elements_per_axis) {
+        return Err(Error::input(
+            "command line",
+            "--grid",
+            format!("must be in 16..=400 elements per axis, got {elements_per_axis}"),
+        ));
+    }
+    let contact = super::profiles::s1002_on_54e1(wheel_y_m, wheel_radius_m)?;
+    let hertz = HertzContact::from_curvatures(
+        contact.curvature_x_per_m,
+        contact.curvature_y_per_m,
+        snapshot.normal_force_n,
+        material,
+    )?;
+    let rail = |y: f64| super::profiles::rail_top_height_m(y).unwrap_or(f64::NAN);
+    let wheel = |y: f64| super::profiles::wheel_radius_offset_m(y, wheel_y_m);
+    // Lateral range that an approach of 2 delta closes (the same scan as the contact point's).
+    let height = |y: f64| rail(y) + wheel(y);
+    let top = height(contact.contact_y_m);
+    let closing = 2.0 * hertz.approach_m;
+    let (mut y_lo, mut y_hi) = (contact.contact_y_m, contact.contact_y_m);
+    let mut y = -0.036;
+    while y <= 0.036 {
+        let s_mm = (y - wheel_y_m) * 1e3;
+        let on_tread = (crate::geometry::s1002::S_FLANGE_BACK_MM
+            ..=crate::geometry::s1002::S_FIELD_FACE_MM)
+            .contains(&s_mm);
+        let h = height(y);
+        if on_tread && h.is_finite() && top - h < closing {
+            y_lo = y_lo.min(y);
+            y_hi = y_hi.max(y);
+        }
+        y += 1e-5;
+    }
+    let centre_y_m = 0.5 * (y_lo + y_hi);
+    let mut half_y_m = 1.1 * (0.5 * (y_hi - y_lo)).max(hertz.semi_axis_b_m);
+    let mut half_x_m = 1.1 * (4.0 * wheel_radius_m * hertz.approach_m).sqrt();
+    // The creepages' origin is the first point of contact, as in the Hertz case and in
+    // CONTACT; the grid's is its centre, `offset` to the side of it. With spin the rigid slip
+    // `xi - phi y` is the same field in both when `xi_grid = xi_contact + phi offset`.
+    let offset_y_m = contact.contact_y_m - centre_y_m;
+    for _ in 0..3 {
+        let grid = super::halfspace::Grid::centered(
+            half_x_m,
+            half_y_m,
+            elements_per_axis,
+            elements_per_axis,
+        );
+        let gap_m = super::geometry::profile_gap(
+            &grid,
+            wheel_radius_m,
+            wheel,
+            rail,
+            centre_y_m,
+            super::geometry::WheelCircle::Exact,
+        )?;
+        let solver = RollingSolver::exact_from_gap(
+            grid,
+            &gap_m,
+            snapshot.normal_force_n,
+            material,
+            snapshot.mu,
+        )?;
+        let touches_edge = solver.normal_solution().is_some_and(|(g, normal)| {
+            (0..g.nx).any(|i| {
+                normal.pressure_pa[g.index(i, 0)] > 0.0
+                    || normal.pressure_pa[g.index(i, g.ny - 1)] > 0.0
+            }) || (0..g.ny).any(|j| {
+                normal.pressure_pa[g.index(0, j)] > 0.0
+                    || normal.pressure_pa[g.index(g.nx - 1, j)] > 0.0
+            })
+        });
+        if !touches_edge {
+            let mut cmp = compare_with_solver(
+                snapshot,
+                &solver,
+                (hertz.semi_axis_a_m, hertz.semi_axis_b_m),
+                spin_per_m,
+            )?;
+            let xi_contact = cmp.kalker.creepages.xi - spin_per_m * offset_y_m;
+            cmp.kalker.creepages.xi = xi_contact;
+            cmp.kalker.solution.creepages.xi = xi_contact;
+            return Ok(cmp);
+        }
+        half_x_m *= 1.5;
+        half_y_m *= 1.5;
+    }
+    Err(Error::input(
+        "command line",
+        "--wheel-y",
+        format!(
+            "the contact patch at this wheel position reaches beyond the grid ({:.1} x {:.1} mm)",
+            2e3 * half_x_m / 1.5,
+            2e3 * half_y_m / 1.5
+        ),
+    ))
+}
+
+/// Force-prescribed solve on `solver` and the comparison of the two adhesion zones.
+fn compare_with_solver(
+    snapshot: &PatchSnapshot,
+    solver: &RollingSolver,
+    semi_axes_m: (f64, f64),
+    spin_per_m: f64,
+) -> Result<SnapshotComparison> {
+    let kalker = solve_force_prescribed(
+        solver,
+        semi_axes_m,
         snapshot.force_x_n,
         snapshot.force_y_n,
         spin_per_m,
