@@ -39,15 +39,9 @@ fn snapshot_from_kalker(xi: f64, eta: f64, phi_per_m: f64) -> PatchSnapshot {
     }
 }
 
-#[test]
-fn round_trip_recovers_creepages_and_orientation() {
-    let material = Material::validated(210e9, 0.3, "test").expect("material");
-    let (xi, eta) = (-1e-3, -1e-3);
-    let snap = snapshot_from_kalker(xi, eta, 0.0);
-    let cmp =
-        compare_snapshot(&snap, CURVATURES, material, Method::Exact, 40, 0.0).expect("compare");
-    assert!(cmp.kalker.unique);
-    // The inverse solves to 1e-6 relative in forces; creepages follow to ~1e-4 relative.
+/// The round trip's creepages: the inverse solves to 1e-6 relative in forces, so the
+/// creepages follow to about 1e-4 relative; 1e-3 is the bound.
+fn assert_creepages(cmp: &squeal::kalker::snapshot::SnapshotComparison, xi: f64, eta: f64) {
     assert!(
         (cmp.kalker.creepages.xi - xi).abs() < 1e-3 * xi.abs(),
         "xi {}",
@@ -58,6 +52,18 @@ fn round_trip_recovers_creepages_and_orientation() {
         "eta {}",
         cmp.kalker.creepages.eta
     );
+}
+
+#[test]
+fn round_trip_recovers_creepages_and_orientation() {
+    let material = Material::validated(210e9, 0.3, "test").expect("material");
+    let (xi, eta) = (-1e-3, -1e-3);
+    let snap = snapshot_from_kalker(xi, eta, 0.0);
+    let cmp =
+        compare_snapshot(&snap, CURVATURES, material, Method::Exact, 40, 0.0).expect("compare");
+    assert!(cmp.kalker.unique);
+    // The inverse solves to 1e-6 relative in forces; creepages follow to ~1e-4 relative.
+    assert_creepages(&cmp, xi, eta);
     let (fe, k) = (
         cmp.fe_orientation_deg.expect("fe angle"),
         cmp.kalker_orientation_deg.expect("kalker angle"),
@@ -82,16 +88,7 @@ fn round_trip_with_spin_recovers_the_creepages() {
     let with_spin =
         compare_snapshot(&snap, CURVATURES, material, Method::Exact, 40, phi).expect("compare");
     // As in the round trip without spin: forces to 1e-6, creepages to about 1e-4 relative.
-    assert!(
-        (with_spin.kalker.creepages.xi - xi).abs() < 1e-3 * xi.abs(),
-        "xi {}",
-        with_spin.kalker.creepages.xi
-    );
-    assert!(
-        (with_spin.kalker.creepages.eta - eta).abs() < 1e-3 * eta.abs(),
-        "eta {}",
-        with_spin.kalker.creepages.eta
-    );
+    assert_creepages(&with_spin, xi, eta);
     let without =
         compare_snapshot(&snap, CURVATURES, material, Method::Exact, 40, 0.0).expect("compare");
     let eta_error = (without.kalker.creepages.eta - eta).abs();

@@ -106,13 +106,7 @@ pub fn compare_snapshot(
     elements_per_axis: usize,
     spin_per_m: f64,
 ) -> Result<SnapshotComparison> {
-    if snapshot.points.is_empty() {
-        return Err(Error::input(
-            "snapshot",
-            "points",
-            "the FE patch has no contact points",
-        ));
-    }
+    require_points(snapshot)?;
     let hertz = HertzContact::from_curvatures(
         hertz_curvatures_per_m.0,
         hertz_curvatures_per_m.1,
@@ -150,13 +144,7 @@ pub fn compare_snapshot_on_profiles(
     elements_per_axis: usize,
     spin_per_m: f64,
 ) -> Result<SnapshotComparison> {
-    if snapshot.points.is_empty() {
-        return Err(Error::input(
-            "snapshot",
-            "points",
-            "the FE patch has no contact points",
-        ));
-    }
+    require_points(snapshot)?;
     if !(16..=400).contains(&elements_per_axis) {
         return Err(Error::input(
             "command line",
@@ -253,6 +241,18 @@ pub fn compare_snapshot_on_profiles(
             2e3 * half_y_m / 1.5
         ),
     ))
+}
+
+/// An FE snapshot without contact points has nothing to compare.
+fn require_points(snapshot: &PatchSnapshot) -> Result<()> {
+    if snapshot.points.is_empty() {
+        return Err(Error::input(
+            "snapshot",
+            "points",
+            "the FE patch has no contact points",
+        ));
+    }
+    Ok(())
 }
 
 /// Force-prescribed solve on `solver` and the comparison of the two adhesion zones.
