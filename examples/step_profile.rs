@@ -29,6 +29,16 @@ fn run() -> squeal::Result<()> {
         m.solver.dt_s,
         rayon::current_num_threads()
     );
+    println!(
+        "contact: {} slaves, {} capped at m/dt^2, largest penalty scale {:.3}, initial gap {:.2} um",
+        m.info.contact_slaves,
+        m.info.contact_slaves_with_capped_penalty,
+        m.info.largest_penalty_scale,
+        m.info.initial_gap_m * 1e6
+    );
+    if args.get(3).map(|s| s == "setup-only") == Some(true) {
+        return Ok(());
+    }
     // Warm up: a few full steps so the wheel touches the rail.
     for _ in 0..50 {
         m.solver.step_with(&mut m.contact, false, false)?;

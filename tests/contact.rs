@@ -334,3 +334,113 @@ fn contact_search_follows_a_carried_master_surface() {
         assert!((on_block / expected - 1.0).abs() < 1e-9);
     }
 }
+
+/// The plate's 20 x 20 x 20 mm elements give every master face `k = s K A^2 / V = s K 0.02 m`;
+/// with slave masses 1..9 kg and a step of 0.1 ms the median cap is `5 kg / (1e-4 s)^2`, so the
+/// largest scale the step carries is `s_max = 5e8 / (K 0.02 m)` (0.1429 for steel). Just above
+/// it the scale is refused naming the field; just below it is accepted.
+#[test]
+fn penalty_scale_above_what_the_step_carries_is_refused() {
+    let (mesh, slaves, faces, _) = block_on_plate();
+    let pair_with = |scale: f64| {
+        let mut pair = ContactPair::new(
+            "block_on_plate",
+            &mesh,
+            slaves.clone(),
+            faces.clone(),
+            scale,
+            bulk_modulus(),
+            FrictionLaw::Coulomb { mu: 0.3 },
+        )
+        .unwrap();
+        let mut mass_kg = vec![0.0; mesh.nodes.len()];
+        for (k, &n) in slaves.iter().enumerate() {
+            mass_kg[n] = 1.0 + k as f64;
+        }
+        pair.cap_stiffness_for_step(&mass_kg, 1e-4);
+        pair
+    };
+    let (area_m2, volume_m3) = (0.02 * 0.02, 0.02 * 0.02 * 0.02);
+    let face_k_per_scale = bulk_modulus() * area_m2 * area_m2 / volume_m3;
+    let expected = 5.0 / (1e-4 * 1e-4) / face_k_per_scale;
+    let largest = pair_with(0.1).largest_penalty_scale();
+    // Same formula by two routes: only rounding differs.
+    assert!(
+        (largest - expected).abs() < 1e-9 * expected,
+        "{largest} against {expected}"
+    );
+    // The limit does not depend on the scale it is computed from (k is linear in s).
+    let from_other = pair_with(0.01).largest_penalty_scale();
+    assert!((from_other - expected).abs() < 1e-9 * expected);
+    let e = pair_with(1.01 * expected)
+        .check_penalty_scale_against_step("case.json", "penalty_scale")
+        .unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.contains("case.json") && text.contains("penalty_scale") && text.contains("0.143"),
+        "{text}"
+    );
+    assert_eq!(e.exit_code(), 2);
+    pair_with(0.99 * expected)
+        .check_penalty_scale_against_step("case.json", "penalty_scale")
+        .unwrap();
+}
+
+/// The block lifted by `lift_m` above the plate, as a contact pair (faces reversed if asked).
+fn lifted_pair(lift_m: f64, reversed: bool) -> ContactPair {
+    let (mut mesh, slaves, faces, offset) = block_on_plate();
+    for p in &mut mesh.nodes[offset..] {
+        p[2] += lift_m;
+    }
+    let faces = if reversed {
+        faces.iter().map(|f| [f[0], f[3], f[2], f[1]]).collect()
+    } else {
+        faces
+    };
+    ContactPair::new(
+        "block_on_plate",
+        &mesh,
+        slaves,
+        faces,
+        0.1,
+        bulk_modulus(),
+        FrictionLaw::Coulomb { mu: 0.3 },
+    )
+    .unwrap()
+}
+
+/// Before any load the clearance is measured on the meshes: the block's nine bottom nodes at
+/// the lift (exact: flat faces), on the plate's outer side; a lift beyond the allowed gap, a
+/// block out of reach and faces ordered inwards are each refused naming the field.
+#[test]
+fn initial_clearance_measures_the_gap_and_the_facing() {
+    let field = "wheel_position.initial_gap_mm";
+    let flush = lifted_pair(0.0, false)
+        .check_initial_clearance(1e-3, "s.json", field)
+        .unwrap();
+    assert_eq!(flush.slaves_near, 9);
+    assert!(flush.smallest_gap_m.abs() < 1e-12, "{flush:?}");
+    let c = lifted_pair(0.5e-3, false)
+        .check_initial_clearance(1e-3, "s.json", field)
+        .unwrap();
+    assert_eq!(
+        (c.slaves_near, c.slaves_outside, c.slaves_behind),
+        (9, 9, 0)
+    );
+    assert!((c.smallest_gap_m - 0.5e-3).abs() < 1e-12, "{c:?}");
+    for (lift_m, reversed, words) in [
+        (1.5e-3, false, "measured on the meshes is 1.500 mm"),
+        (3e-3, false, "no slave node"),
+        (0.5e-3, true, "do not face each other: 9 of the 9"),
+    ] {
+        let e = lifted_pair(lift_m, reversed)
+            .check_initial_clearance(1e-3, "s.json", field)
+            .unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains(field) && text.contains("s.json") && text.contains(words),
+            "lift {lift_m}, reversed {reversed}: {text}"
+        );
+        assert_eq!(e.exit_code(), 2);
+    }
+}

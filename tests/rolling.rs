@@ -179,26 +179,35 @@ fn bad_case_files_name_the_field() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// A wheel placed 5 mm above the rail is not in contact after the preload: an error naming the
-/// initial gap, not a silent run of a flying wheel.
-#[test]
-fn wheel_not_in_contact_after_preload_is_an_error() {
-    let dir = std::env::temp_dir().join(format!("squeal_rolling_gap_{}", std::process::id()));
+/// The tiny case's files copied to a temp dir with `edit` applied to the model scenario and
+/// `case_edit` to the case file; returns the dir and the loaded case.
+fn edited_tiny_case(
+    tag: &str,
+    edit: (&str, &str),
+    case_edit: (&str, &str),
+) -> (std::path::PathBuf, squeal::rolling::case::LoadedCase) {
+    let dir = std::env::temp_dir().join(format!("squeal_rolling_{tag}_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::copy("data/wheels/ns_intercity_920.json", dir.join("wheel.json")).unwrap();
     let scen = std::fs::read_to_string("data/scenarios/ci-tiny.json")
         .unwrap()
-        .replace("../wheels/ns_intercity_920.json", "wheel.json")
-        .replace("\"initial_gap_mm\": 0.0", "\"initial_gap_mm\": 5.0");
-    assert!(scen.contains("\"initial_gap_mm\": 5.0"));
-    std::fs::write(dir.join("ci-tiny.json"), scen).unwrap();
-    let case = std::fs::read_to_string("data/scenarios/case3-ci.json")
-        .unwrap()
-        .replace("\"max_steps\": 2500", "\"max_steps\": 200");
-    std::fs::write(dir.join("case.json"), case).unwrap();
+        .replace("../wheels/ns_intercity_920.json", "wheel.json");
+    assert!(scen.contains(edit.0), "{}", edit.0);
+    std::fs::write(dir.join("ci-tiny.json"), scen.replace(edit.0, edit.1)).unwrap();
+    let case = std::fs::read_to_string("data/scenarios/case3-ci.json").unwrap();
+    assert!(case.contains(case_edit.0), "{}", case_edit.0);
+    std::fs::write(
+        dir.join("case.json"),
+        case.replace(case_edit.0, case_edit.1),
+    )
+    .unwrap();
     let loaded = load_case(&dir.join("case.json")).unwrap();
-    let err = simulate(
-        &loaded,
+    (dir, loaded)
+}
+
+fn simulate_in(dir: &Path, loaded: &squeal::rolling::case::LoadedCase) -> squeal::Result<()> {
+    simulate(
+        loaded,
         &SimulateOptions {
             out_dir: dir.join("out"),
             resume: false,
@@ -207,9 +216,62 @@ fn wheel_not_in_contact_after_preload_is_an_error() {
             stop: StopFlag::new(),
         },
     )
-    .expect_err("a flying wheel must be an error");
-    assert!(err.to_string().contains("initial_gap_mm"), "{err}");
+    .map(|_| ())
+}
+
+/// A wheel placed 0.8 mm above the rail passes the check on the meshes (at most 1 mm) but is
+/// not in contact after a 200-step preload (0.3 ms of the 13 ms a 0.8 mm fall takes): an error
+/// naming the initial gap, not a silent run of a flying wheel.
+#[test]
+fn wheel_not_in_contact_after_preload_is_an_error() {
+    let (dir, loaded) = edited_tiny_case(
+        "gap",
+        ("\"initial_gap_mm\": 0.0", "\"initial_gap_mm\": 0.8"),
+        ("\"max_steps\": 2500", "\"max_steps\": 200"),
+    );
+    let err = simulate_in(&dir, &loaded).expect_err("a flying wheel must be an error");
+    let text = err.to_string();
+    assert!(
+        text.contains("initial_gap_mm") && text.contains("after the preload"),
+        "{text}"
+    );
     assert_eq!(err.exit_code(), 2);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Refused on the meshes before the preload, naming the field: a wheel 5 mm above the rail
+/// (the limit is 1 mm), and a penalty scale of 100 where the tiny model's step carries about
+/// 23.5 (`step_profile ... setup-only`). No output directory is written.
+#[test]
+fn gap_and_penalty_scale_are_refused_before_the_preload() {
+    let (dir, loaded) = edited_tiny_case(
+        "gap5",
+        ("\"initial_gap_mm\": 0.0", "\"initial_gap_mm\": 5.0"),
+        ("\"max_steps\": 2500", "\"max_steps\": 2500"),
+    );
+    let err = simulate_in(&dir, &loaded).expect_err("5 mm gap");
+    let text = err.to_string();
+    assert!(
+        text.contains("initial_gap_mm") && text.contains("at most 1.000 mm"),
+        "{text}"
+    );
+    assert_eq!(err.exit_code(), 2);
+    let _ = std::fs::remove_dir_all(&dir);
+    let (dir, loaded) = edited_tiny_case(
+        "penalty",
+        ("\"initial_gap_mm\": 0.0", "\"initial_gap_mm\": 0.0"),
+        ("\"penalty_scale\": 0.1", "\"penalty_scale\": 100.0"),
+    );
+    let err = simulate_in(&dir, &loaded).expect_err("penalty scale 100");
+    let text = err.to_string();
+    assert!(
+        text.contains("case.json")
+            && text.contains("penalty_scale")
+            && text.contains("violates the time step"),
+        "{text}"
+    );
+    assert_eq!(err.exit_code(), 2);
+    assert!(!dir.join("out").join("contact_forces.csv").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -154,6 +154,8 @@ pub struct ContactPair {
     pub friction: FrictionLaw,
     /// Per-slave state.
     pub state: Vec<SlaveState>,
+    /// Penalty scale factor `s` of `k = s K A^2 / V`.
+    pub penalty_scale: f64,
     reference: Vec<P3>,
     search_margin_m: f64,
     /// How far a master node may move before the grid is rebuilt: a quarter of the median
@@ -167,6 +169,21 @@ pub struct ContactPair {
     /// Their positions when the grid was built (aligned with `master_nodes`).
     positions_at_build: Vec<P3>,
     forces: Vec<(P3, [f64; 4], u32)>,
+}
+
+/// How a slave surface lies against its master before any load
+/// ([`ContactPair::clearance`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Clearance {
+    /// Slaves over a master face within the search distance.
+    pub slaves_near: usize,
+    /// Of those, the ones clearly on the outer side of the face (`g` above 1 % of the search
+    /// distance).
+    pub slaves_outside: usize,
+    /// And the ones clearly behind it (`g` below -1 % of the search distance).
+    pub slaves_behind: usize,
+    /// Smallest signed distance `g` among them (m; negative: penetrating); infinite if none.
+    pub smallest_gap_m: f64,
 }
 
 /// Uniform bucket grid over face bounding boxes.
@@ -444,6 +461,7 @@ impl ContactPair {
             face_stiffness_n_per_m: stiffness,
             friction,
             state: vec![SlaveState::default(); n_slaves],
+            penalty_scale,
             reference: mesh.nodes.clone(),
             search_margin_m: face_size,
             rebuild_distance_m: 0.25 * median_face_size,
@@ -490,6 +508,179 @@ impl ContactPair {
             }
         }
         capped
+    }
+
+    /// The largest penalty scale that the time step `dt_s` (after
+    /// [`ContactPair::cap_stiffness_for_step`]) can carry: the scale at which the softest master
+    /// face's penalty `s K A^2 / V` reaches the median slave's cap `m_s / dt^2`. Above it, half
+    /// the slaves or more get the cap against every master face, whatever the scale, so the
+    /// scale asked for is not what the model computes. Requires the caps to be set.
+    pub fn largest_penalty_scale(&self) -> f64 {
+        let softest_face = self
+            .face_stiffness_n_per_m
+            .iter()
+            .fold(f64::INFINITY, |m, &k| m.min(k));
+        let mut caps = self.slave_stiffness_cap.clone();
+        caps.sort_by(f64::total_cmp);
+        let median_cap = caps[caps.len() / 2];
+        // k scales linearly with s: s_max / s = cap / k.
+        self.penalty_scale * median_cap / softest_face
+    }
+
+    /// Error naming `field` when the penalty scale exceeds [`ContactPair::largest_penalty_scale`].
+    pub fn check_penalty_scale_against_step(&self, source: &str, field: &str) -> Result<()> {
+        let largest = self.largest_penalty_scale();
+        if self.penalty_scale > largest {
+            return Err(Error::input(
+                source,
+                field,
+                format!(
+                    "{} violates the time step: even on the softest master face the penalty \
+                     exceeds the stable value m / dt^2 of half the slave nodes, which would \
+                     all be held at that cap instead; must lie in (0, {largest:.3}] for this \
+                     mesh and step",
+                    self.penalty_scale
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// How the slave nodes lie against the master surface before any load (reference
+    /// positions): for each slave over a master face within `search_m` of it (on either side),
+    /// the signed distance `g = (x_s - x_p) . n` along the face's outward normal.
+    /// Slaves not over any face within `search_m` are left out.
+    pub fn clearance(&self, search_m: f64) -> Clearance {
+        let pos = |n: usize| self.reference[n];
+        let mut gaps: Vec<f64> = Vec::new();
+        // Face boxes widened by the search distance; a brute loop over the faces would be
+        // slaves x faces (5e4 x 1e5 on the paper model), so the faces are binned by x-y cell.
+        let boxes: Vec<(P3, P3)> = self
+            .faces
+            .iter()
+            .map(|f| {
+                let mut lo = [f64::INFINITY; 3];
+                let mut hi = [f64::NEG_INFINITY; 3];
+                for &n in f {
+                    let p = pos(n);
+                    for d in 0..3 {
+                        lo[d] = lo[d].min(p[d] - search_m);
+                        hi[d] = hi[d].max(p[d] + search_m);
+                    }
+                }
+                (lo, hi)
+            })
+            .collect();
+        let cell = (2.0 * self.median_face_size_m).max(search_m).max(1e-6);
+        let mut bins: std::collections::HashMap<(i64, i64), Vec<usize>> =
+            std::collections::HashMap::new();
+        for (k, (lo, hi)) in boxes.iter().enumerate() {
+            let (x0, x1) = ((lo[0] / cell).floor() as i64, (hi[0] / cell).floor() as i64);
+            let (y0, y1) = ((lo[1] / cell).floor() as i64, (hi[1] / cell).floor() as i64);
+            for x in x0..=x1 {
+                for y in y0..=y1 {
+                    bins.entry((x, y)).or_default().push(k);
+                }
+            }
+        }
+        for &s in &self.slaves {
+            let xs = pos(s);
+            let key = ((xs[0] / cell).floor() as i64, (xs[1] / cell).floor() as i64);
+            let Some(candidates) = bins.get(&key) else {
+                continue;
+            };
+            let mut nearest: Option<f64> = None;
+            for &fi in candidates {
+                let (lo, hi) = boxes[fi];
+                if (0..3).any(|d| xs[d] < lo[d] || xs[d] > hi[d]) {
+                    continue;
+                }
+                let p = self.faces[fi].map(pos);
+                let n = crate::mesh::hex::face_normal(p[0], p[1], p[2], p[3]);
+                let len = dot(n, n).sqrt();
+                let n = [n[0] / len, n[1] / len, n[2] / len];
+                let (_, _, w, _) = project_on_face(&p, xs);
+                let xp = [0, 1, 2]
+                    .map(|d| w[0] * p[0][d] + w[1] * p[1][d] + w[2] * p[2][d] + w[3] * p[3][d]);
+                let d = sub(xs, xp);
+                let g = dot(d, n);
+                let tangential = [d[0] - g * n[0], d[1] - g * n[1], d[2] - g * n[2]];
+                // Over the face (as in the contact search) and within the search distance.
+                if dot(tangential, tangential) > 4e-4 * len || g.abs() > search_m {
+                    continue;
+                }
+                if nearest.is_none_or(|b| g.abs() < b.abs()) {
+                    nearest = Some(g);
+                }
+            }
+            if let Some(g) = nearest {
+                gaps.push(g);
+            }
+        }
+        // Beyond 1 % of the search distance, so that slaves flush with the master (g = 0 up to
+        // rounding and faceting) count on neither side.
+        let side = 0.01 * search_m;
+        Clearance {
+            slaves_near: gaps.len(),
+            slaves_outside: gaps.iter().filter(|&&g| g > side).count(),
+            slaves_behind: gaps.iter().filter(|&&g| g < -side).count(),
+            smallest_gap_m: gaps.iter().copied().fold(f64::INFINITY, f64::min),
+        }
+    }
+
+    /// Checks, before any load, that the slaves face the master surface from its outer side
+    /// and come within `largest_gap_m` of it: errors name `field` (the input that places the
+    /// bodies) and say which of the two failed.
+    pub fn check_initial_clearance(
+        &self,
+        largest_gap_m: f64,
+        source: &str,
+        field: &str,
+    ) -> Result<Clearance> {
+        // Search a little beyond the allowed gap so that a gap just too large is measured and
+        // named, not reported as "nothing near".
+        let c = self.clearance(2.0 * largest_gap_m);
+        if c.slaves_near == 0 {
+            return Err(Error::input(
+                source,
+                field,
+                format!(
+                    "no slave node of `{}` lies over a master face within {:.3} mm: the \
+                     initial gap must be at most {:.3} mm (or the surfaces miss each other)",
+                    self.name,
+                    2e3 * largest_gap_m,
+                    1e3 * largest_gap_m
+                ),
+            ));
+        }
+        // A slave surface resting on the master has its neighbours outside the master (g > 0)
+        // on the side the face normals point to; with the faces ordered inwards, or the slave
+        // body placed inside the master, they come out negative.
+        if c.slaves_behind > c.slaves_outside {
+            return Err(Error::input(
+                source,
+                field,
+                format!(
+                    "the contact surfaces of `{}` do not face each other: {} of the {} slave \
+                     nodes near the master surface lie behind it (against its outward normal)",
+                    self.name, c.slaves_behind, c.slaves_near
+                ),
+            ));
+        }
+        if c.smallest_gap_m > largest_gap_m {
+            return Err(Error::input(
+                source,
+                field,
+                format!(
+                    "the initial gap of `{}` measured on the meshes is {:.3} mm; at most {:.3} \
+                     mm is allowed",
+                    self.name,
+                    1e3 * c.smallest_gap_m,
+                    1e3 * largest_gap_m
+                ),
+            ));
+        }
+        Ok(c)
     }
 
     fn build_grid(&mut self, u: &[P3]) {

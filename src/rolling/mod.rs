@@ -78,6 +78,12 @@ pub struct ModelInfo {
     pub preload_added_mass_kg: f64,
     /// Slaves whose penalty was capped at `m / dt^2` (see `ContactPair::cap_stiffness_for_step`).
     pub contact_slaves_with_capped_penalty: usize,
+    /// The largest penalty scale this mesh and step can carry
+    /// (`ContactPair::largest_penalty_scale`).
+    pub largest_penalty_scale: f64,
+    /// Smallest wheel-rail gap measured on the meshes before the preload (m; negative:
+    /// penetrating by the meshes' faceting).
+    pub initial_gap_m: f64,
 }
 
 /// A built rolling model, ready to run.
@@ -308,6 +314,16 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         .into_iter()
         .fold(f64::INFINITY, f64::min);
     let capped = pair.cap_stiffness_for_step(&model.nodal_mass_kg, element_step_s);
+    // The cap keeps the step; a scale the step cannot carry anywhere is an input error, not
+    // a silent change of the penalty (issue 5, bad input).
+    pair.check_penalty_scale_against_step(&source, "penalty_scale")?;
+    // Before the preload (20 minutes on the paper model): the wheel must start on the rail,
+    // seen from the rail's outer side.
+    let clearance = pair.check_initial_clearance(
+        INITIAL_GAP_LIMIT_M,
+        &source,
+        "model_scenario: wheel_position.initial_gap_mm",
+    )?;
     let bound = pair.time_step_bound_s(&model.nodal_mass_kg);
     model.register_time_step_bound("contact penalty", bound);
     let preload_added_mass_kg = match case.preload.time_step_s {
@@ -333,6 +349,8 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         rim_node,
         preload_added_mass_kg: preload_added_mass_kg.iter().sum(),
         contact_slaves_with_capped_penalty: capped,
+        largest_penalty_scale: pair.largest_penalty_scale(),
+        initial_gap_m: clearance.smallest_gap_m,
     };
     let contact = RollingContact {
         pair,
@@ -892,6 +910,11 @@ pub struct RunRecord {
     /// reported as lift-off or derailment.
     pub longest_contact_loss_s: f64,
 }
+
+/// Largest wheel-rail gap accepted before the preload (m): the static preload settles a wheel
+/// that starts on the rail; a wheel dropped from higher falls for
+/// `sqrt(2 h / g)` (14 ms from 1 mm) under the preload's damping and inertia scaling.
+pub const INITIAL_GAP_LIMIT_M: f64 = 1e-3;
 
 /// Longest loss of contact accepted as a bounce (s); longer is lift-off or derailment.
 pub const LIFT_OFF_LIMIT_S: f64 = 0.002;
