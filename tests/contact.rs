@@ -42,18 +42,29 @@ struct Setup {
     mass_kg: f64,
 }
 
-fn setup(friction: FrictionLaw, load_n: f64) -> Setup {
-    let (mesh, slaves, faces, _) = block_on_plate();
-    let pair = ContactPair::new(
+/// The block's bottom nodes against the plate's top faces, steel's bulk modulus.
+fn steel_pair(
+    mesh: &Mesh,
+    slaves: Vec<usize>,
+    faces: Vec<[usize; 4]>,
+    penalty_scale: f64,
+    friction: FrictionLaw,
+) -> ContactPair {
+    ContactPair::new(
         "block_on_plate",
-        &mesh,
+        mesh,
         slaves,
         faces,
-        0.1,
+        penalty_scale,
         bulk_modulus(),
         friction,
     )
-    .unwrap();
+    .unwrap()
+}
+
+fn setup(friction: FrictionLaw, load_n: f64) -> Setup {
+    let (mesh, slaves, faces, _) = block_on_plate();
+    let pair = steel_pair(&mesh, slaves, faces, 0.1, friction);
     let materials: BTreeMap<u32, ElasticMaterial> = [(1, STEEL), (2, STEEL)].into_iter().collect();
     let mut model = Model::from_mesh(mesh, &materials, Formulation::default(), "test").unwrap();
     model.gravity_m_per_s2 = [0.0, 0.0, -G];
@@ -343,16 +354,13 @@ fn contact_search_follows_a_carried_master_surface() {
 fn penalty_scale_above_what_the_step_carries_is_refused() {
     let (mesh, slaves, faces, _) = block_on_plate();
     let pair_with = |scale: f64| {
-        let mut pair = ContactPair::new(
-            "block_on_plate",
+        let mut pair = steel_pair(
             &mesh,
             slaves.clone(),
             faces.clone(),
             scale,
-            bulk_modulus(),
             FrictionLaw::Coulomb { mu: 0.3 },
-        )
-        .unwrap();
+        );
         let mut mass_kg = vec![0.0; mesh.nodes.len()];
         for (k, &n) in slaves.iter().enumerate() {
             mass_kg[n] = 1.0 + k as f64;
@@ -397,16 +405,7 @@ fn lifted_pair(lift_m: f64, reversed: bool) -> ContactPair {
     } else {
         faces
     };
-    ContactPair::new(
-        "block_on_plate",
-        &mesh,
-        slaves,
-        faces,
-        0.1,
-        bulk_modulus(),
-        FrictionLaw::Coulomb { mu: 0.3 },
-    )
-    .unwrap()
+    steel_pair(&mesh, slaves, faces, 0.1, FrictionLaw::Coulomb { mu: 0.3 })
 }
 
 /// Before any load the clearance is measured on the meshes: the block's nine bottom nodes at

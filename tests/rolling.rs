@@ -229,14 +229,18 @@ fn wheel_not_in_contact_after_preload_is_an_error() {
         ("\"initial_gap_mm\": 0.0", "\"initial_gap_mm\": 0.8"),
         ("\"max_steps\": 2500", "\"max_steps\": 200"),
     );
-    let err = simulate_in(&dir, &loaded).expect_err("a flying wheel must be an error");
+    refused_with(&dir, &loaded, &["initial_gap_mm", "after the preload"]);
+}
+
+/// Runs the case, expects an input error (exit code 2) whose text holds every one of `words`,
+/// and removes `dir`.
+fn refused_with(dir: &Path, loaded: &squeal::rolling::case::LoadedCase, words: &[&str]) {
+    let err = simulate_in(dir, loaded).expect_err("bad input must be refused");
     let text = err.to_string();
-    assert!(
-        text.contains("initial_gap_mm") && text.contains("after the preload"),
-        "{text}"
-    );
-    assert_eq!(err.exit_code(), 2);
-    let _ = std::fs::remove_dir_all(&dir);
+    assert!(words.iter().all(|w| text.contains(w)), "{words:?}: {text}");
+    assert_eq!(err.exit_code(), 2, "{text}");
+    assert!(!dir.join("out").join("contact_forces.csv").exists());
+    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// Refused on the meshes before the preload, naming the field: a wheel 5 mm above the rail
@@ -249,30 +253,17 @@ fn gap_and_penalty_scale_are_refused_before_the_preload() {
         ("\"initial_gap_mm\": 0.0", "\"initial_gap_mm\": 5.0"),
         ("\"max_steps\": 2500", "\"max_steps\": 2500"),
     );
-    let err = simulate_in(&dir, &loaded).expect_err("5 mm gap");
-    let text = err.to_string();
-    assert!(
-        text.contains("initial_gap_mm") && text.contains("at most 1.000 mm"),
-        "{text}"
-    );
-    assert_eq!(err.exit_code(), 2);
-    let _ = std::fs::remove_dir_all(&dir);
+    refused_with(&dir, &loaded, &["initial_gap_mm", "at most 1.000 mm"]);
     let (dir, loaded) = edited_tiny_case(
         "penalty",
         ("\"initial_gap_mm\": 0.0", "\"initial_gap_mm\": 0.0"),
         ("\"penalty_scale\": 0.1", "\"penalty_scale\": 100.0"),
     );
-    let err = simulate_in(&dir, &loaded).expect_err("penalty scale 100");
-    let text = err.to_string();
-    assert!(
-        text.contains("case.json")
-            && text.contains("penalty_scale")
-            && text.contains("violates the time step"),
-        "{text}"
+    refused_with(
+        &dir,
+        &loaded,
+        &["case.json", "penalty_scale", "violates the time step"],
     );
-    assert_eq!(err.exit_code(), 2);
-    assert!(!dir.join("out").join("contact_forces.csv").exists());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A stop asked for during the static preload ends the run with `Error::Interrupted` (exit code

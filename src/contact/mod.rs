@@ -223,6 +223,42 @@ impl BucketGrid {
     }
 }
 
+/// Unit outward normal of a face and the length of `face_normal`'s vector (about the area).
+#[inline]
+fn unit_normal(p: &[P3; 4]) -> (P3, f64) {
+    let n = crate::mesh::hex::face_normal(p[0], p[1], p[2], p[3]);
+    let len = dot(n, n).sqrt();
+    ([n[0] / len, n[1] / len, n[2] / len], len)
+}
+
+/// Signed distance `g = (x_s - x_p) . n` of `xs` from its projection `x_p` on the face, and the
+/// projection's bilinear weights, when `xs` lies over the face. The projection is clamped to the
+/// face: a node beside the face (not over it) has a tangential offset from its closest point;
+/// only nodes over the face count, to 2 % of the face size (`4e-4 area`: the offset of a node
+/// just past a shared edge).
+#[inline]
+fn distance_over_face(p: &[P3; 4], n: P3, area: f64, xs: P3) -> Option<(f64, [f64; 4])> {
+    let (_, _, w, _) = project_on_face(p, xs);
+    let xp = [0, 1, 2].map(|d| w[0] * p[0][d] + w[1] * p[1][d] + w[2] * p[2][d] + w[3] * p[3][d]);
+    let d = sub(xs, xp);
+    let g = dot(d, n);
+    let tangential = [d[0] - g * n[0], d[1] - g * n[1], d[2] - g * n[2]];
+    (dot(tangential, tangential) <= 4e-4 * area).then_some((g, w))
+}
+
+/// Bounding box (lowest and highest corner) of a face's four points.
+fn face_box(points: [P3; 4]) -> (P3, P3) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for d in 0..3 {
+            lo[d] = lo[d].min(p[d]);
+            hi[d] = hi[d].max(p[d]);
+        }
+    }
+    (lo, hi)
+}
+
 fn sub(a: P3, b: P3) -> P3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
@@ -270,28 +306,16 @@ impl SlaveContext<'_> {
             }
             let f = self.faces[fi as usize];
             let p = f.map(pos);
-            let n = crate::mesh::hex::face_normal(p[0], p[1], p[2], p[3]);
-            let len = dot(n, n).sqrt();
-            let n = [n[0] / len, n[1] / len, n[2] / len];
+            let (n, area) = unit_normal(&p);
             // Cheap plane test first: a node above the face's mean plane (beyond 5 % of
             // the face size, for warped faces) is not in contact with it.
             let centroid = [0, 1, 2].map(|d| 0.25 * (p[0][d] + p[1][d] + p[2][d] + p[3][d]));
-            if dot(sub(xs, centroid), n) > 0.05 * len.sqrt() {
+            if dot(sub(xs, centroid), n) > 0.05 * area.sqrt() {
                 continue;
             }
-            let (_, _, w, _) = project_on_face(&p, xs);
-            let xp = [0, 1, 2]
-                .map(|d| w[0] * p[0][d] + w[1] * p[1][d] + w[2] * p[2][d] + w[3] * p[3][d]);
-            // The projection is clamped to the face: a node beside the face (not over it)
-            // has a tangential offset from its closest point. Accept only nodes over the
-            // face, to 2 % of the face size (the offset of a node just past a shared edge).
-            let d = sub(xs, xp);
-            let dn = dot(d, n);
-            let tangential = [d[0] - dn * n[0], d[1] - dn * n[1], d[2] - dn * n[2]];
-            if dot(tangential, tangential) > 4e-4 * len {
+            let Some((gap, w)) = distance_over_face(&p, n, area, xs) else {
                 continue;
-            }
-            let gap = dot(sub(xs, xp), n);
+            };
             // Penetrations deeper than a face size are the far side of a thin part.
             if gap < 0.0 && gap > -self.search_margin_m && best.is_none_or(|b| gap < b.0) {
                 best = Some((gap, fi, w, n));
@@ -559,16 +583,8 @@ impl ContactPair {
             .faces
             .iter()
             .map(|f| {
-                let mut lo = [f64::INFINITY; 3];
-                let mut hi = [f64::NEG_INFINITY; 3];
-                for &n in f {
-                    let p = pos(n);
-                    for d in 0..3 {
-                        lo[d] = lo[d].min(p[d] - search_m);
-                        hi[d] = hi[d].max(p[d] + search_m);
-                    }
-                }
-                (lo, hi)
+                let (lo, hi) = face_box(f.map(pos));
+                (lo.map(|x| x - search_m), hi.map(|x| x + search_m))
             })
             .collect();
         let cell = (2.0 * self.median_face_size_m).max(search_m).max(1e-6);
@@ -596,17 +612,12 @@ impl ContactPair {
                     continue;
                 }
                 let p = self.faces[fi].map(pos);
-                let n = crate::mesh::hex::face_normal(p[0], p[1], p[2], p[3]);
-                let len = dot(n, n).sqrt();
-                let n = [n[0] / len, n[1] / len, n[2] / len];
-                let (_, _, w, _) = project_on_face(&p, xs);
-                let xp = [0, 1, 2]
-                    .map(|d| w[0] * p[0][d] + w[1] * p[1][d] + w[2] * p[2][d] + w[3] * p[3][d]);
-                let d = sub(xs, xp);
-                let g = dot(d, n);
-                let tangential = [d[0] - g * n[0], d[1] - g * n[1], d[2] - g * n[2]];
+                let (n, area) = unit_normal(&p);
                 // Over the face (as in the contact search) and within the search distance.
-                if dot(tangential, tangential) > 4e-4 * len || g.abs() > search_m {
+                let Some((g, _)) = distance_over_face(&p, n, area, xs) else {
+                    continue;
+                };
+                if g.abs() > search_m {
                     continue;
                 }
                 if nearest.is_none_or(|b| g.abs() < b.abs()) {
@@ -691,22 +702,7 @@ impl ContactPair {
         // paper's rail ends) would otherwise reach 60 mm above the rail and hand its box to
         // every wheel node over it; a penalty penetration is a few tens of micrometres.
         let margin = self.rebuild_distance_m;
-        let raw: Vec<(P3, P3)> = self
-            .faces
-            .iter()
-            .map(|f| {
-                let mut lo = [f64::INFINITY; 3];
-                let mut hi = [f64::NEG_INFINITY; 3];
-                for &n in f {
-                    let p = pos(n);
-                    for d in 0..3 {
-                        lo[d] = lo[d].min(p[d]);
-                        hi[d] = hi[d].max(p[d]);
-                    }
-                }
-                (lo, hi)
-            })
-            .collect();
+        let raw: Vec<(P3, P3)> = self.faces.iter().map(|f| face_box(f.map(pos))).collect();
         let mut sizes: Vec<f64> = raw
             .iter()
             .map(|(lo, hi)| (0..3).map(|d| hi[d] - lo[d]).fold(0.0, f64::max))
