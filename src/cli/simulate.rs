@@ -144,6 +144,12 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         if let Some(mu) = record.measured_traction_coefficient {
             println!("  measured traction coefficient (last quarter) {mu:.3}");
         }
+        println!(
+            "  over every contact node and step: |f_T| / (mu f_N) at most {:.12}, deepest \
+             penetration {:.1} um",
+            record.largest_node_shear_over_bound,
+            record.deepest_penetration_m * 1e6
+        );
         if record.longest_contact_loss_s > squeal::rolling::LIFT_OFF_LIMIT_S {
             return Err(Error::Numerical(format!(
                 "case {}: the wheel lost contact with the rail for {:.1} ms (limit {:.1} ms): \

@@ -156,6 +156,13 @@ pub struct ContactPair {
     pub state: Vec<SlaveState>,
     /// Penalty scale factor `s` of `k = s K A^2 / V`.
     pub penalty_scale: f64,
+    /// Largest `|f_T| / (mu f_N)` over every active slave and every step since the last
+    /// [`ContactPair::reset_monitors`]: the return mapping keeps it at 1 up to rounding
+    /// (PAPER.md: the tangential force never exceeds the traction bound); infinite if a slave
+    /// with a zero bound carried a tangential force.
+    pub largest_shear_over_bound: f64,
+    /// Deepest penetration over every slave and every step since the last reset (m).
+    pub deepest_penetration_m: f64,
     reference: Vec<P3>,
     search_margin_m: f64,
     /// How far a master node may move before the grid is rebuilt: a quarter of the median
@@ -486,6 +493,8 @@ impl ContactPair {
             friction,
             state: vec![SlaveState::default(); n_slaves],
             penalty_scale,
+            largest_shear_over_bound: 0.0,
+            deepest_penetration_m: 0.0,
             reference: mesh.nodes.clone(),
             search_margin_m: face_size,
             rebuild_distance_m: 0.25 * median_face_size,
@@ -803,6 +812,13 @@ impl ContactPair {
             })
     }
 
+    /// Starts the invariants' monitors afresh (`largest_shear_over_bound`,
+    /// `deepest_penetration_m`), e.g. after a frictionless preload.
+    pub fn reset_monitors(&mut self) {
+        self.largest_shear_over_bound = 0.0;
+        self.deepest_penetration_m = 0.0;
+    }
+
     /// Sum of the contact forces on the slaves (N) and the traction bound `sum mu |f_N|`.
     pub fn resultants(&self) -> (P3, P3, f64) {
         let mut normal = [0.0; 3];
@@ -855,12 +871,27 @@ impl AuxForces for ContactPair {
                     }
                 }
             });
-        // Scatter (serial: slaves share master nodes).
+        // Scatter (serial: slaves share master nodes), and the invariants' monitors over the
+        // slaves in contact.
+        let (mut largest_ratio, mut deepest) =
+            (self.largest_shear_over_bound, self.deepest_penetration_m);
         for (k, &s) in self.slaves.iter().enumerate() {
             let (f, w, fi) = self.forces[k];
             if fi == u32::MAX {
                 continue;
             }
+            let st = &self.state[k];
+            let bound = st.mu * st.normal_force_n;
+            let shear = dot(st.tangential_force_n, st.tangential_force_n).sqrt();
+            let ratio = if bound > 0.0 {
+                shear / bound
+            } else if shear > 0.0 {
+                f64::INFINITY
+            } else {
+                0.0
+            };
+            largest_ratio = largest_ratio.max(ratio);
+            deepest = deepest.max(st.penetration_m);
             for d in 0..3 {
                 force[s][d] += f[d];
             }
@@ -871,6 +902,8 @@ impl AuxForces for ContactPair {
                 }
             }
         }
+        self.largest_shear_over_bound = largest_ratio;
+        self.deepest_penetration_m = deepest;
     }
 
     fn checkpoint_state(&self) -> Vec<f64> {

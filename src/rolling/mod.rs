@@ -909,6 +909,11 @@ pub struct RunRecord {
     /// Longest time without any contact node (s); above [`LIFT_OFF_LIMIT_S`] the run is
     /// reported as lift-off or derailment.
     pub longest_contact_loss_s: f64,
+    /// Largest `|f_T| / (mu f_N)` over every contact node and every rolling step (since the
+    /// start of rolling, or the resume): at most 1 up to rounding.
+    pub largest_node_shear_over_bound: f64,
+    /// Deepest penetration over every contact node and every rolling step (m), same span.
+    pub deepest_penetration_m: f64,
 }
 
 /// Largest wheel-rail gap accepted before the preload (m): the static preload settles a wheel
@@ -1024,6 +1029,8 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         stop: opts.stop.clone(),
     };
     m.contact.resuming = opts.resume;
+    // The invariants are the rolling run's: the frictionless preload's steps are left out.
+    m.contact.pair.reset_monitors();
     let summary = run(&mut m.solver, &mut m.contact, &run_opts)?;
     m.contact.flush()?;
     let (traction, initial_n) =
@@ -1039,6 +1046,8 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         measured_traction_coefficient: traction,
         initial_normal_force_n: initial_n,
         longest_contact_loss_s: m.contact.longest_loss_s,
+        largest_node_shear_over_bound: m.contact.pair.largest_shear_over_bound,
+        deepest_penetration_m: m.contact.pair.deepest_penetration_m,
     };
     let path = opts.out_dir.join("run.json");
     let text =
