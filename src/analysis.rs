@@ -8,6 +8,15 @@
 //! - `modes.json`: the wheel modes, a JSON array of
 //!   `{"frequency_hz", "family", "nodal_circles", "nodal_diameters"}` (family: axial, radial,
 //!   circumferential or rigid).
+//!
+//! The spectrum is taken over a window of the record: by default, for a rolling run whose
+//! `run.json` names a lateral motion, from its onset to the end (the start-up before it is a
+//! different vibration), else the whole record; with bins no wider than the requested
+//! resolution (default 50 Hz), by zero padding where the window is short
+//! ([`crate::signal::resolution`]). When the run also has the rim-averaged column
+//! (`rim_mean_<column>`), each peak carries `PSD(rim mean) / PSD(rim point)`, summed over the
+//! peak's bin and its two neighbours, which decides the nodal diameters a peak may be given
+//! ([`crate::identify`]).
 
 use std::path::{Path, PathBuf};
 
@@ -15,7 +24,8 @@ use serde::Serialize;
 
 use crate::identify::{identify, Direction, ModeRef, PeakIdentification, Tolerance};
 use crate::input::read_json;
-use crate::signal::{find_spectral_peaks, welch, PeakSearch, Psd, TimeSeries, WelchParams};
+use crate::signal::resolution::{describe, welch_for_resolution};
+use crate::signal::{find_spectral_peaks, welch, PeakSearch, Psd, TimeSeries};
 use crate::{Error, Result};
 
 /// Options of a run analysis.
@@ -27,9 +37,16 @@ pub struct AnalysisOptions {
     pub peaks: usize,
     /// Band for the peaks (Hz).
     pub band_hz: (f64, f64),
-    /// Welch segment length (None: largest power of two giving at least 3 half-overlapping
-    /// segments).
+    /// Welch segment length (None: chosen for the resolution, see
+    /// [`crate::signal::resolution`]).
     pub nperseg: Option<usize>,
+    /// Largest bin spacing (Hz).
+    pub resolution_hz: f64,
+    /// Start of the analysed window (s); None: the lateral-motion onset of a rolling run, else
+    /// the first sample.
+    pub from_s: Option<f64>,
+    /// End of the analysed window (s); None: the last sample.
+    pub to_s: Option<f64>,
     /// Minimum separation between peaks (Hz).
     pub min_separation_hz: f64,
     /// Matching tolerance.
@@ -45,11 +62,31 @@ impl Default for AnalysisOptions {
             peaks: 3,
             band_hz: (50.0, 10_000.0),
             nperseg: None,
+            resolution_hz: DEFAULT_RESOLUTION_HZ,
+            from_s: None,
+            to_s: None,
             min_separation_hz: 50.0,
             tolerance: Tolerance::default(),
             modes_file: None,
         }
     }
+}
+
+/// Default largest bin spacing (Hz): fine enough to put (1,0) at 1767 Hz and (0,4) at 1839 Hz
+/// of the default wheel on different bins.
+pub const DEFAULT_RESOLUTION_HZ: f64 = 50.0;
+
+/// The analysed span of a record.
+#[derive(Clone, Debug, Serialize)]
+pub struct AnalysisWindow {
+    /// Start (s).
+    pub from_s: f64,
+    /// End (s).
+    pub to_s: f64,
+    /// Where the start came from.
+    pub start_from: String,
+    /// What the spectrum is (segments, padding, bins, main lobe).
+    pub spectrum: String,
 }
 
 /// Result of a run analysis.
@@ -63,6 +100,10 @@ pub struct RunAnalysis {
     pub sample_rate_hz: f64,
     /// Welch PSD.
     pub psd: Psd,
+    /// The analysed window and how the spectrum was taken.
+    pub window: AnalysisWindow,
+    /// The rim-mean column and its PSD (same parameters), when the run has it.
+    pub rim_mean: Option<(String, Psd)>,
     /// Dominant peaks with their modes.
     pub identifications: Vec<PeakIdentification>,
     /// The modes used.
@@ -156,19 +197,36 @@ pub fn analyse_run(run_dir: &Path, options: &AnalysisOptions) -> Result<RunAnaly
             format!("{f_hi} Hz is above the Nyquist frequency {nyquist:.1} Hz of the {:.1} Hz sampled history; lower --fmax or sample faster", series.sample_rate_hz),
         ));
     }
-    let n = series.values.len();
-    let nperseg = match options.nperseg {
-        Some(v) => v,
-        None => {
-            let mut p = 64usize;
-            while p * 2 <= n / 2 {
-                p *= 2;
-            }
-            p.min(n)
-        }
+    let (from_s, start_from) = match options.from_s {
+        Some(t) => (t, "--from-ms".to_string()),
+        None => match lateral_onset_s(run_dir) {
+            Some(t) => (t, "the lateral-motion onset (run.json)".to_string()),
+            None => (series.start_time_s, "the first sample".to_string()),
+        },
     };
-    let params = WelchParams::new(nperseg);
-    let psd = welch(&series.values, series.sample_rate_hz, &params)?;
+    let range = window_range(&series, from_s, options.to_s, &histories)?;
+    let values = &series.values[range.clone()];
+    let params = welch_for_resolution(
+        values.len(),
+        series.sample_rate_hz,
+        options.resolution_hz,
+        options.nperseg,
+    )?;
+    let psd = welch(values, series.sample_rate_hz, &params)?;
+    let window = AnalysisWindow {
+        from_s: series.start_time_s + range.start as f64 / series.sample_rate_hz,
+        to_s: series.start_time_s + (range.end - 1) as f64 / series.sample_rate_hz,
+        start_from,
+        spectrum: describe(&params, series.sample_rate_hz, psd.segment_count),
+    };
+    let rim_column = format!("rim_mean_{column}");
+    let rim_mean = if resolve_column(&histories, &rim_column).is_ok_and(|c| c == rim_column) {
+        let rim = TimeSeries::from_csv(&histories, &rim_column)?;
+        let rim_psd = welch(&rim.values[range], rim.sample_rate_hz, &params)?;
+        Some((rim_column, rim_psd))
+    } else {
+        None
+    };
     let search = PeakSearch {
         min_frequency_hz: f_lo,
         max_frequency_hz: f_hi,
@@ -189,13 +247,95 @@ pub fn analyse_run(run_dir: &Path, options: &AnalysisOptions) -> Result<RunAnaly
         ));
     }
     let modes: Vec<ModeRef> = read_json(&modes_path)?;
-    let identifications = identify(&peaks, &modes, direction, options.tolerance);
+    let ratios: Option<Vec<f64>> = rim_mean.as_ref().map(|(_, rim_psd)| {
+        peaks
+            .iter()
+            .map(|p| rim_ratio(&psd, rim_psd, p.refined_frequency_hz))
+            .collect()
+    });
+    let identifications = identify(
+        &peaks,
+        ratios.as_deref(),
+        &modes,
+        direction,
+        options.tolerance,
+    );
     Ok(RunAnalysis {
         column,
         direction,
         sample_rate_hz: series.sample_rate_hz,
         psd,
+        window,
+        rim_mean,
         identifications,
         modes,
     })
+}
+
+/// `PSD(rim mean) / PSD(rim point)` summed over the bin nearest `f_hz` and its two neighbours.
+pub fn rim_ratio(point: &Psd, mean: &Psd, f_hz: f64) -> f64 {
+    let df = point.frequency_resolution_hz;
+    let k = (f_hz / df).round().max(0.0) as usize;
+    let last = point.psd_per_hz.len().saturating_sub(1);
+    let range = k.saturating_sub(1).min(last)..=(k + 1).min(last);
+    let num: f64 = mean.psd_per_hz[range.clone()].iter().sum();
+    let den: f64 = point.psd_per_hz[range].iter().sum();
+    if den > 0.0 {
+        num / den
+    } else {
+        f64::NAN
+    }
+}
+
+/// The lateral-motion onset of a rolling run, from `run.json` (`settings.lateral_motion`).
+pub fn lateral_onset_s(run_dir: &Path) -> Option<f64> {
+    let path = run_dir.join("run.json");
+    let record: serde_json::Value = read_json(&path).ok()?;
+    let motion = record.get("settings")?.get("lateral_motion")?;
+    let motion: crate::rolling::lateral::LateralMotion =
+        serde_json::from_value(motion.clone()).ok()?;
+    Some(motion.onset_s())
+}
+
+/// Sample indices of the window `[from_s, to_s]` of a series; errors name the option.
+fn window_range(
+    series: &TimeSeries,
+    from_s: f64,
+    to_s: Option<f64>,
+    path: &Path,
+) -> Result<std::ops::Range<usize>> {
+    let n = series.values.len();
+    let fs = series.sample_rate_hz;
+    let first_s = series.start_time_s;
+    let last_s = first_s + (n.saturating_sub(1)) as f64 / fs;
+    let name = path.display().to_string();
+    if !(from_s.is_finite() && from_s >= first_s - 0.5 / fs && from_s < last_s) {
+        return Err(Error::input(
+            name,
+            "--from-ms",
+            format!(
+                "the window must start within the record, [{:.3}, {:.3}) ms (got {:.3} ms)",
+                first_s * 1e3,
+                last_s * 1e3,
+                from_s * 1e3
+            ),
+        ));
+    }
+    let to = to_s.unwrap_or(last_s);
+    if !(to.is_finite() && to > from_s && to <= last_s + 0.5 / fs) {
+        return Err(Error::input(
+            name,
+            "--to-ms",
+            format!(
+                "the window must end after its start ({:.3} ms) and within the record (up to \
+                 {:.3} ms); got {:.3} ms",
+                from_s * 1e3,
+                last_s * 1e3,
+                to * 1e3
+            ),
+        ));
+    }
+    let start = (((from_s - first_s) * fs) - 1e-6).ceil().max(0.0) as usize;
+    let end = ((((to - first_s) * fs) + 1e-6).floor() as usize + 1).min(n);
+    Ok(start..end)
 }

@@ -13,6 +13,20 @@
 //! unexplained, never forced onto a mode.
 //!
 //! Labels follow the paper: (nodal circles, nodal diameters), e.g. (0,3).
+//!
+//! Nodal diameters from the rim: when the run also records the rim-averaged velocity (the mean
+//! over every node of the rim face, in the frame that turns with the wheel), the ratio
+//! `PSD(rim mean) / PSD(rim point)` at a peak tells what kind of motion the peak is. A mode with
+//! n nodal diameters moves the rim as `cos(n theta)`: along the axle (lateral) the mean over
+//! the circle keeps n = 0 and cancels every n >= 1; in the wheel plane (vertical,
+//! longitudinal) the components of radial and circumferential motion along a fixed axis go as
+//! `cos(theta) cos(n theta)`, and the mean keeps n = 1 only. So a ratio near 1 shows the rim
+//! moving as one (n = 0 laterally, n = 1 in-plane), a ratio near 0 shows nodal diameters that
+//! the mean cancels. Two modes 70 Hz apart, (1,0) at 1767 Hz and (0,4) at 1839 Hz on the
+//! default wheel, fall in one peak of a 24 ms record; the ratio still tells them apart.
+//! A peak is given only modes its ratio allows: at or above [`COMMON_MOTION_RATIO`] only the
+//! n the mean keeps, at or below [`DIAMETRAL_MOTION_RATIO`] only the others, and in between
+//! none (reported as mixed).
 
 use serde::{Deserialize, Serialize};
 
@@ -29,6 +43,9 @@ pub enum ModeFamily {
     Radial,
     /// In-plane, circumferential.
     Circumferential,
+    /// Mostly the axle's motion (its axial, bending or torsional resonance carrying the wheel);
+    /// the first index of its label counts nodes along the axle.
+    Axle,
     /// Rigid-body mode (never used to explain a peak).
     Rigid,
 }
@@ -65,14 +82,69 @@ pub enum Direction {
     Longitudinal,
 }
 
+/// `PSD(rim mean) / PSD(rim point)` at or above which the rim moves as one. Why 0.5: at
+/// least half the power at the peak is common motion of the whole rim, which only the n that
+/// the mean keeps can give (the rim point and the mean see an n = 0 axial mode alike up to
+/// the mode's variation over the rim face, 10-20 % on the demo wheel).
+pub const COMMON_MOTION_RATIO: f64 = 0.5;
+
+/// Ratio at or below which the peak is nodal-diameter motion: at most a fifth of its power is
+/// common motion (the squeal check's bound for (0,3) and (0,4)).
+pub const DIAMETRAL_MOTION_RATIO: f64 = 0.2;
+
+/// What the rim-mean/rim-point ratio shows at a peak.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RimMotion {
+    /// The rim moves as one: the n the rim mean keeps (0 laterally, 1 in-plane).
+    Common,
+    /// Nodal-diameter motion that the rim mean cancels.
+    Diametral,
+    /// Neither clearly: no mode is assigned.
+    Mixed,
+}
+
+impl RimMotion {
+    /// Classifies a ratio.
+    pub fn from_ratio(ratio: f64) -> RimMotion {
+        if ratio >= COMMON_MOTION_RATIO {
+            RimMotion::Common
+        } else if ratio <= DIAMETRAL_MOTION_RATIO {
+            RimMotion::Diametral
+        } else {
+            RimMotion::Mixed
+        }
+    }
+}
+
 impl Direction {
+    /// Nodal diameters whose rim motion survives the mean over the rim in this direction.
+    pub fn rim_mean_diameters(self) -> u32 {
+        match self {
+            Direction::Lateral => 0,
+            Direction::Vertical | Direction::Longitudinal => 1,
+        }
+    }
+
+    /// Whether a mode with `n` nodal diameters can make a peak whose rim motion is `motion`.
+    pub fn allows(self, motion: Option<RimMotion>, n: u32) -> bool {
+        match motion {
+            None => true,
+            Some(RimMotion::Common) => n == self.rim_mean_diameters(),
+            Some(RimMotion::Diametral) => n != self.rim_mean_diameters(),
+            Some(RimMotion::Mixed) => false,
+        }
+    }
+
     /// Families this direction sees.
     pub fn families(self) -> &'static [ModeFamily] {
         match self {
-            Direction::Lateral => &[ModeFamily::Axial],
-            Direction::Vertical | Direction::Longitudinal => {
-                &[ModeFamily::Radial, ModeFamily::Circumferential]
-            }
+            Direction::Lateral => &[ModeFamily::Axial, ModeFamily::Axle],
+            Direction::Vertical | Direction::Longitudinal => &[
+                ModeFamily::Radial,
+                ModeFamily::Circumferential,
+                ModeFamily::Axle,
+            ],
         }
     }
     /// Parse "lateral" / "vertical" / "longitudinal" (also as a prefix of a column name).
@@ -128,11 +200,20 @@ pub struct PeakIdentification {
     pub mode: Option<ModeRef>,
     /// (peak - mode) / mode in per cent.
     pub difference_percent: Option<f64>,
+    /// `PSD(rim mean) / PSD(rim point)` at the peak (None: the run has no rim mean).
+    #[serde(default)]
+    pub rim_mean_over_point: Option<f64>,
+    /// What the ratio shows.
+    #[serde(default)]
+    pub rim_motion: Option<RimMotion>,
 }
 
-/// Identify each peak (ranked list, most dominant first) with a mode.
+/// Identify each peak (ranked list, most dominant first) with a mode. `rim_ratios` holds, per
+/// peak, `PSD(rim mean) / PSD(rim point)` (see the module documentation), or is None when the
+/// run has no rim mean; a peak then gets any mode of the right family.
 pub fn identify(
     peaks: &[SpectralPeak],
+    rim_ratios: Option<&[f64]>,
     modes: &[ModeRef],
     direction: Direction,
     tolerance: Tolerance,
@@ -143,9 +224,12 @@ pub fn identify(
         .enumerate()
         .map(|(k, p)| {
             let f = p.refined_frequency_hz;
+            let ratio = rim_ratios.and_then(|r| r.get(k).copied());
+            let motion = ratio.map(RimMotion::from_ratio);
             let best = modes
                 .iter()
                 .filter(|m| families.contains(&m.family) && m.frequency_hz > 0.0)
+                .filter(|m| direction.allows(motion, m.nodal_diameters))
                 .filter(|m| (f - m.frequency_hz).abs() <= tolerance.window_hz(m.frequency_hz))
                 .min_by(|a, b| {
                     (f - a.frequency_hz)
@@ -158,6 +242,8 @@ pub fn identify(
                 peak_psd: p.refined_psd,
                 mode: best.cloned(),
                 difference_percent: best.map(|m| 100.0 * (f - m.frequency_hz) / m.frequency_hz),
+                rim_mean_over_point: ratio,
+                rim_motion: motion,
             }
         })
         .collect()
@@ -212,6 +298,26 @@ pub fn missing_required(
             .any(|md| direction.families().contains(&md.family))
         {
             format!("({m},{n}): the modal results have it only as {:?}, which {:?} vibration does not see", candidates.iter().map(|c| c.family).collect::<Vec<_>>(), direction)
+        } else if let Some(gated) = ids.iter().find(|i| {
+            i.rim_motion.is_some()
+                && candidates.iter().any(|c| {
+                    direction.families().contains(&c.family)
+                        && (i.peak_frequency_hz - c.frequency_hz).abs()
+                            <= Tolerance::default().window_hz(c.frequency_hz)
+                        && !direction.allows(i.rim_motion, c.nodal_diameters)
+                })
+        }) {
+            format!(
+                "({m},{n}): the peak at {:.1} Hz lies near it, but its rim-mean/rim-point PSD \
+                 ratio {:.2} shows {} motion, which a mode with {n} nodal diameters does not make",
+                gated.peak_frequency_hz,
+                gated.rim_mean_over_point.unwrap_or(f64::NAN),
+                match gated.rim_motion {
+                    Some(RimMotion::Common) => "common (whole-rim)",
+                    Some(RimMotion::Diametral) => "nodal-diameter",
+                    _ => "mixed",
+                }
+            )
         } else {
             let f: Vec<String> = candidates
                 .iter()
@@ -239,15 +345,19 @@ pub fn to_markdown(
     tolerance: Tolerance,
 ) -> String {
     let mut s = format!(
-        "Dominant peaks of the {direction:?} vibration and the wheel modes that explain them (tolerance {:.0} % or {:.0} Hz). Mode = (nodal circles, nodal diameters).\n\n",
+        "Dominant peaks of the {direction:?} vibration and the wheel modes that explain them (tolerance {:.0} % or {:.0} Hz). Mode = (nodal circles, nodal diameters). Rim mean/point: PSD of the rim-averaged over the rim-point vibration at the peak (>= {COMMON_MOTION_RATIO}: the whole rim moves as one, n = {}; <= {DIAMETRAL_MOTION_RATIO}: nodal diameters; between: mixed, no mode assigned).\n\n",
         100.0 * tolerance.relative,
-        tolerance.absolute_hz
+        tolerance.absolute_hz,
+        direction.rim_mean_diameters()
     );
-    s.push_str("| rank | dominant frequency (Hz) | modal frequency (Hz) | mode | family | difference (%) |\n|---|---|---|---|---|---|\n");
+    s.push_str("| rank | dominant frequency (Hz) | rim mean/point | modal frequency (Hz) | mode | family | difference (%) |\n|---|---|---|---|---|---|---|\n");
     for i in ids {
+        let ratio = i
+            .rim_mean_over_point
+            .map_or("-".to_string(), |r| format!("{r:.2}"));
         match &i.mode {
             Some(m) => s.push_str(&format!(
-                "| {} | {:.1} | {:.1} | {} | {:?} | {:+.2} |\n",
+                "| {} | {:.1} | {ratio} | {:.1} | {} | {:?} | {:+.2} |\n",
                 i.rank,
                 i.peak_frequency_hz,
                 m.frequency_hz,
@@ -256,8 +366,14 @@ pub fn to_markdown(
                 i.difference_percent.unwrap_or(0.0)
             )),
             None => s.push_str(&format!(
-                "| {} | {:.1} | - | unexplained | - | - |\n",
-                i.rank, i.peak_frequency_hz
+                "| {} | {:.1} | {ratio} | - | {} | - | - |\n",
+                i.rank,
+                i.peak_frequency_hz,
+                if i.rim_motion == Some(RimMotion::Mixed) {
+                    "mixed"
+                } else {
+                    "unexplained"
+                }
             )),
         }
     }
@@ -266,11 +382,14 @@ pub fn to_markdown(
 
 /// The same table as CSV text.
 pub fn to_csv(ids: &[PeakIdentification]) -> String {
-    let mut s = String::from("rank,dominant_frequency_hz,peak_psd,modal_frequency_hz,nodal_circles,nodal_diameters,family,difference_percent\n");
+    let mut s = String::from("rank,dominant_frequency_hz,peak_psd,rim_mean_over_point,modal_frequency_hz,nodal_circles,nodal_diameters,family,difference_percent\n");
     for i in ids {
+        let ratio = i
+            .rim_mean_over_point
+            .map_or(String::new(), |r| r.to_string());
         match &i.mode {
             Some(m) => s.push_str(&format!(
-                "{},{},{},{},{},{},{:?},{}\n",
+                "{},{},{},{ratio},{},{},{},{:?},{}\n",
                 i.rank,
                 i.peak_frequency_hz,
                 i.peak_psd,
@@ -281,8 +400,15 @@ pub fn to_csv(ids: &[PeakIdentification]) -> String {
                 i.difference_percent.unwrap_or(f64::NAN)
             )),
             None => s.push_str(&format!(
-                "{},{},{},,,,unexplained,\n",
-                i.rank, i.peak_frequency_hz, i.peak_psd
+                "{},{},{},{ratio},,,,{},\n",
+                i.rank,
+                i.peak_frequency_hz,
+                i.peak_psd,
+                if i.rim_motion == Some(RimMotion::Mixed) {
+                    "mixed"
+                } else {
+                    "unexplained"
+                }
             )),
         }
     }

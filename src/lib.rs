@@ -11,6 +11,7 @@ pub mod error;
 pub mod explicit;
 pub mod fem;
 pub mod geometry;
+pub mod growth;
 pub mod hammer;
 pub mod identify;
 pub mod input;

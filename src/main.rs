@@ -18,6 +18,8 @@ enum Command {
     Identify(cli::identify::IdentifyArgs),
     /// Exit 0 only if the required modes are identified among the dominant peaks (for CI).
     CheckModes(cli::identify::CheckModesArgs),
+    /// Wavelet-ridge growth rates of wheel vibration in the bands of chosen modes.
+    Growth(cli::growth::GrowthArgs),
     /// Report (markdown + HTML, charts, tables, WAV) over run directories.
     Report(cli::report::ReportArgs),
     /// Standard profiles (S1002 wheel, 54E1 rail) as point tables.
@@ -48,6 +50,7 @@ fn main() {
         Some(Command::Profile(args)) => cli::profile::run(args),
         Some(Command::Identify(args)) => cli::identify::run_identify(args),
         Some(Command::Report(args)) => cli::report::run(args),
+        Some(Command::Growth(args)) => cli::growth::run(args),
         Some(Command::CheckModes(args)) => match cli::identify::run_check_modes(args) {
             Ok(true) => Ok(()),
             Ok(false) => std::process::exit(1),

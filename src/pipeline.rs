@@ -105,6 +105,7 @@ pub fn run_pipeline(
         std::slice::from_ref(&run_dir),
         &opts.out_dir,
         &format!("squeal default run: {}", case.case.name),
+        &Default::default(),
     )?;
     stages.push(("analysis and report".to_string(), t.elapsed().as_secs_f64()));
     Ok(PipelineSummary {

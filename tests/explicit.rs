@@ -445,6 +445,7 @@ fn bad_input_is_reported_with_the_field() {
             Curve {
                 times_s: vec![0.0, 0.0],
                 values: vec![0.0, 1.0],
+                slopes: Vec::new(),
             },
         )
         .unwrap_err();

@@ -205,7 +205,7 @@ fn check_modes_passes_and_fails_with_reasons() {
     assert!(id.status.success());
     let md = std::fs::read_to_string(out.join("identification.md")).expect("md");
     assert!(md.contains(
-        "| dominant frequency (Hz) | modal frequency (Hz) | mode | family | difference (%) |"
+        "| dominant frequency (Hz) | rim mean/point | modal frequency (Hz) | mode | family | difference (%) |"
     ));
     assert!(out.join("identification.csv").exists() && out.join("identification.json").exists());
     let _ = std::fs::remove_dir_all(&dir);
@@ -226,6 +226,34 @@ fn check_modes_bad_input_exits_2() {
         (
             vec!["check-modes", "--require", "0,3", "--fmax", "20000", d],
             "Nyquist",
+        ),
+        (
+            vec!["check-modes", "--require", "0,3", "--from-ms", "5000", d],
+            "--from-ms",
+        ),
+        (
+            vec![
+                "check-modes",
+                "--require",
+                "0,3",
+                "--from-ms",
+                "100",
+                "--to-ms",
+                "50",
+                d,
+            ],
+            "--to-ms",
+        ),
+        (
+            vec![
+                "check-modes",
+                "--require",
+                "0,3",
+                "--resolution-hz",
+                "-5",
+                d,
+            ],
+            "--resolution-hz",
         ),
     ];
     for (args, needle) in cases {
@@ -249,4 +277,194 @@ fn check_modes_bad_input_exits_2() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("no histories.csv"));
     let _ = std::fs::remove_dir_all(&dir);
     let _ = std::fs::remove_dir_all(&empty);
+}
+
+/// The default wheel's (1,0) at 1767 Hz and (0,4) at 1839 Hz, 70 Hz apart, and an n = 0
+/// umbrella mode: modes of a run directory for the rim-ratio tests.
+fn close_modes() -> Vec<ModeRef> {
+    vec![
+        mode(231.0, ModeFamily::Axial, 0, 0),
+        mode(1015.0, ModeFamily::Axial, 0, 3),
+        mode(1767.0, ModeFamily::Axial, 1, 0),
+        mode(1839.0, ModeFamily::Axial, 0, 4),
+    ]
+}
+
+/// A rolling-like record at 50 kHz: the rim point carries `point` tones, the rim mean `mean`
+/// tones (an n = 0 mode moves both alike, an n >= 1 mode only the point), both with seeded
+/// noise 1e-3 of the tones.
+fn write_rim_run(dir: &Path, duration_s: f64, point: &[(f64, f64)], mean: &[(f64, f64)]) {
+    std::fs::create_dir_all(dir).expect("dir");
+    let fs = 50_000.0;
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut noise = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 2e-3
+    };
+    let tone = |tones: &[(f64, f64)], t: f64| -> f64 {
+        tones
+            .iter()
+            .map(|(f, a)| a * (2.0 * PI * f * t + 0.3).sin())
+            .sum()
+    };
+    let mut csv =
+        String::from("time_s,lateral_velocity_m_per_s,rim_mean_lateral_velocity_m_per_s\n");
+    let n = (duration_s * fs).round() as usize;
+    for i in 0..n {
+        let t = i as f64 / fs;
+        let (p, m) = (tone(point, t) + noise(), tone(mean, t) + noise());
+        csv.push_str(&format!("{t:.8},{p:.10},{m:.10}\n"));
+    }
+    std::fs::write(dir.join("histories.csv"), csv).expect("write");
+    std::fs::write(
+        dir.join("modes.json"),
+        serde_json::to_string(&close_modes()).expect("json"),
+    )
+    .expect("write");
+}
+
+fn labelled(a: &squeal::analysis::RunAnalysis) -> Vec<(f64, Option<String>, f64)> {
+    let mut v: Vec<(f64, Option<String>, f64)> = a
+        .identifications
+        .iter()
+        .map(|i| {
+            (
+                i.peak_frequency_hz,
+                i.mode.as_ref().map(|m| m.label()),
+                i.rim_mean_over_point.expect("ratio"),
+            )
+        })
+        .collect();
+    v.sort_by(|x, y| x.0.total_cmp(&y.0));
+    v
+}
+
+/// One peak near 1.8 kHz in a 24 ms window (one Hann segment, main lobe +-83 Hz): by frequency
+/// alone the closer mode wins; the rim ratio decides. A (0,4) tone at 1800 Hz (nearer (1,0) at
+/// 1767 Hz) is (0,4), since the rim mean does not see it; a (1,0) tone at 1810 Hz (nearer (0,4)
+/// at 1839) is (1,0), since the whole rim carries it. Breaking the ratio (mean = point) turns the
+/// first into (1,0): the test fails without the gate.
+#[test]
+fn rim_ratio_tells_zero_four_from_one_zero_in_one_peak() {
+    let dir = temp("rim-04");
+    write_rim_run(&dir, 0.024, &[(1800.0, 1.0)], &[]);
+    let options = AnalysisOptions {
+        peaks: 1,
+        band_hz: (500.0, 5000.0),
+        ..Default::default()
+    };
+    let a = analyse_run(&dir, &options).expect("analysis");
+    assert!(
+        a.window.spectrum.contains("zero-padded"),
+        "{}",
+        a.window.spectrum
+    );
+    assert!(a.psd.frequency_resolution_hz <= 50.0);
+    let got = labelled(&a);
+    assert_eq!(got[0].1.as_deref(), Some("(0,4)"), "{got:?}");
+    assert!(got[0].2 <= 0.2, "{got:?}");
+
+    write_rim_run(&dir, 0.024, &[(1810.0, 1.0)], &[(1810.0, 0.9)]);
+    let got = labelled(&analyse_run(&dir, &options).expect("analysis"));
+    assert_eq!(got[0].1.as_deref(), Some("(1,0)"), "{got:?}");
+    assert!(got[0].2 >= 0.5, "{got:?}");
+
+    // A mixed peak (the mean carries 40 % of the power) gets no mode.
+    write_rim_run(&dir, 0.024, &[(1800.0, 1.0)], &[(1800.0, 0.63)]);
+    let a = analyse_run(&dir, &options).expect("analysis");
+    assert!(
+        a.identifications[0].mode.is_none(),
+        "{:?}",
+        a.identifications
+    );
+    assert_eq!(
+        a.identifications[0].rim_motion,
+        Some(squeal::identify::RimMotion::Mixed)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Both modes at once, 70 Hz apart, in an 80 ms window (main lobe +-25 Hz): two peaks, each with
+/// its own ratio and label. The n = 0 umbrella mode keeps n = 0.
+#[test]
+fn rim_ratio_labels_two_close_modes_and_keeps_n0_peaks() {
+    let dir = temp("rim-both");
+    write_rim_run(
+        &dir,
+        0.08,
+        &[(231.0, 2.0), (1767.0, 1.0), (1839.0, 1.0)],
+        &[(231.0, 1.8), (1767.0, 0.9)],
+    );
+    let options = AnalysisOptions {
+        peaks: 3,
+        band_hz: (100.0, 5000.0),
+        ..Default::default()
+    };
+    let got = labelled(&analyse_run(&dir, &options).expect("analysis"));
+    let labels: Vec<Option<&str>> = got.iter().map(|g| g.1.as_deref()).collect();
+    assert_eq!(
+        labels,
+        [Some("(0,0)"), Some("(1,0)"), Some("(0,4)")],
+        "{got:?}"
+    );
+    assert!(
+        got[0].2 >= 0.5 && got[1].2 >= 0.5 && got[2].2 <= 0.2,
+        "{got:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A window that starts later than the record: the lateral-motion onset of run.json by default,
+/// --from-ms when given; the spectrum covers only that span.
+#[test]
+fn window_starts_at_the_lateral_onset_of_run_json() {
+    let dir = temp("onset");
+    write_rim_run(&dir, 0.04, &[(1015.0, 1.0)], &[]);
+    let run = serde_json::json!({"settings": {"lateral_motion": {"shape": "ramp", "start_s": 0.016,
+        "rise_time_s": 0.001, "velocity_m_per_s": 0.6, "travel_m": 0.003, "settle_time_s": 0.002}}});
+    std::fs::write(dir.join("run.json"), run.to_string()).expect("write");
+    let a = analyse_run(&dir, &AnalysisOptions::default()).expect("analysis");
+    assert!((a.window.from_s - 0.016).abs() < 1e-9, "{:?}", a.window);
+    assert!(a.window.start_from.contains("lateral-motion onset"));
+    let a = analyse_run(
+        &dir,
+        &AnalysisOptions {
+            from_s: Some(0.03),
+            ..Default::default()
+        },
+    )
+    .expect("analysis");
+    assert!((a.window.from_s - 0.03).abs() < 1e-9);
+    // 10 ms at 50 kHz: one segment of 500 samples, padded for 50 Hz bins.
+    assert_eq!(a.psd.params.nperseg, 500);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// On a real run: the committed 1 mm case 4 (velocity-step lateral motion from 16 ms) rings the
+/// n = 0 modes from the hub, and its dominant lateral peaks after 16 ms stay n = 0: the rim mean
+/// carries them.
+#[test]
+fn n0_peaks_of_the_committed_case4_run_stay_n0() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/runs/case4-paper");
+    let a = analyse_run(
+        &dir,
+        &AnalysisOptions {
+            from_s: Some(0.016),
+            ..Default::default()
+        },
+    )
+    .expect("analysis");
+    for i in &a.identifications {
+        assert_eq!(
+            i.rim_motion,
+            Some(squeal::identify::RimMotion::Common),
+            "{:?}",
+            a.identifications
+        );
+        if let Some(m) = &i.mode {
+            assert_eq!(m.nodal_diameters, 0, "{:?}", a.identifications);
+        }
+    }
 }

@@ -74,7 +74,7 @@ fn report_has_every_section_and_file() {
     write_run(&a, 0.1);
     write_run(&b, 1.0);
     let out = root.join("out");
-    let summary = build_report(&[a, b], &out, "test report").expect("report");
+    let summary = build_report(&[a, b], &out, "test report", &Default::default()).expect("report");
     for s in [
         "Wheel vibration: time histories and PSDs (all runs)",
         "Wavelet power spectra (Morlet)",
@@ -122,8 +122,13 @@ fn report_has_every_section_and_file() {
 fn report_without_histories_is_an_input_error() {
     let root = std::env::temp_dir().join(format!("squeal-report-empty-{}", std::process::id()));
     std::fs::create_dir_all(&root).expect("dir");
-    let e = build_report(std::slice::from_ref(&root), &root.join("out"), "x")
-        .expect_err("no histories");
+    let e = build_report(
+        std::slice::from_ref(&root),
+        &root.join("out"),
+        "x",
+        &Default::default(),
+    )
+    .expect_err("no histories");
     assert!(e.to_string().contains("histories.csv"));
     assert_eq!(e.exit_code(), 2);
     let _ = std::fs::remove_dir_all(&root);

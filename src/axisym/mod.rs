@@ -24,10 +24,17 @@
 //!
 //! Classification: family by the share of modal kinetic energy (omega^2/2 x^T M x split by
 //! component, exact because M couples only like components): U_z -> axial, U_r -> radial,
-//! U_t -> circumferential. Nodal circles: sign changes of the axial (axial family), radial
-//! (radial family) or circumferential displacement along a radial path through the section
-//! (the web centre line of a wheel, the mid-plane of a disc), ignoring samples below 5 % of the
-//! largest magnitude on the path so that numerical noise near a node line is not counted.
+//! U_t -> circumferential. A wheel on its half axle has modes that are mostly the axle's
+//! (its axial, bending and torsional resonances between the clamped ends, carrying the wheel
+//! along): a mode with at least [`AXLE_FAMILY_SHARE`] of its kinetic energy in the axle
+//! (`sum x_j (M x)_j` over the dofs of nodes that only axle elements hold) is of the axle
+//! family. Nodal circles: sign changes of the axial (axial family), radial (radial family) or
+//! circumferential displacement along a radial path through the wheel section (hub, web centre
+//! line and rim of a wheel, so that a nodal circle at the hub or in the rim counts as well as
+//! one in the web; the mid-plane of a disc), ignoring samples below 5 % of the largest
+//! magnitude on the path so that numerical noise near a node line is not counted. For the axle
+//! family the path runs along the axle, inside it at half its radius, and the component is the
+//! axle's own dominant one.
 
 pub mod eigen;
 pub mod element;
@@ -56,6 +63,11 @@ pub const MAX_RELATIVE_RESIDUAL: f64 = 1e-8;
 /// Share of the path's largest magnitude below which a sample has no sign (nodal circles).
 const NODAL_SIGN_THRESHOLD: f64 = 0.05;
 
+/// Kinetic energy share in the axle from which a mode belongs to the axle family. Why a half:
+/// such a mode is more the axle's than the wheel's; on the default wheel the shares fall in
+/// two groups, below 0.25 (wheel modes carrying some axle) and above 0.5 (module tests).
+pub const AXLE_FAMILY_SHARE: f64 = 0.5;
+
 /// A body of revolution ready to solve.
 #[derive(Clone, Debug)]
 pub struct AxisymModel {
@@ -67,6 +79,8 @@ pub struct AxisymModel {
     pub clamped: Vec<usize>,
     /// Radial path for the nodal-circle count, `[r, z]` (m), from the inner to the outer end.
     pub radial_path: Vec<[f64; 2]>,
+    /// Path along the axle for axle-family modes, `[r, z]` (m); empty without an axle.
+    pub axle_path: Vec<[f64; 2]>,
 }
 
 /// What to hold fixed on a wheel.
@@ -163,15 +177,43 @@ impl AxisymModel {
                 opts.clamp
             )));
         }
-        let radial_path = (0..=40)
+        // Hub (bore to outer radius, at the web's centre there), web centre line, rim (up to
+        // 5 mm below the tape circle, at the web's centre at the rim).
+        let (hub_centre, _) = spec.web_at(0.0);
+        let (rim_centre, _) = spec.web_at(1.0);
+        let mut radial_path: Vec<[f64; 2]> = (0..10)
             .map(|i| {
-                let t = i as f64 / 40.0;
-                let (c, _) = spec.web_at(t);
-                let r = spec.hub.outer_radius_mm
-                    + t * (spec.rim_inner_radius_mm - spec.hub.outer_radius_mm);
-                [r * 1e-3, c * 1e-3]
+                let r = spec.hub.bore_radius_mm
+                    + (spec.hub.outer_radius_mm - spec.hub.bore_radius_mm) * i as f64 / 10.0;
+                [r * 1e-3, hub_centre * 1e-3]
             })
             .collect();
+        radial_path.extend((0..=40).map(|i| {
+            let t = i as f64 / 40.0;
+            let (c, _) = spec.web_at(t);
+            let r = spec.hub.outer_radius_mm
+                + t * (spec.rim_inner_radius_mm - spec.hub.outer_radius_mm);
+            [r * 1e-3, c * 1e-3]
+        }));
+        let rim_top = spec.nominal_radius_mm - 5.0;
+        radial_path.extend((1..=10).map(|i| {
+            let r =
+                spec.rim_inner_radius_mm + (rim_top - spec.rim_inner_radius_mm) * i as f64 / 10.0;
+            [r * 1e-3, rim_centre * 1e-3]
+        }));
+        let axle_path = match (&spec.axle, with_axle) {
+            (Some(a), true) => {
+                let p = &a.profile_mm;
+                let (z0, z1) = (p[0][0], p[p.len() - 1][0]);
+                (0..=60)
+                    .map(|i| {
+                        let z = z0 + (z1 - z0) * i as f64 / 60.0;
+                        [0.5 * axle_radius_mm(p, z) * 1e-3, z * 1e-3]
+                    })
+                    .collect()
+            }
+            _ => Vec::new(),
+        };
         let m = spec.material;
         Ok(AxisymModel {
             mesh,
@@ -182,6 +224,7 @@ impl AxisymModel {
             },
             clamped,
             radial_path,
+            axle_path,
         })
     }
 
@@ -204,6 +247,7 @@ impl AxisymModel {
             material,
             clamped: Vec::new(),
             radial_path,
+            axle_path: Vec::new(),
         }
     }
 }
@@ -245,6 +289,9 @@ pub struct AxisymMode {
     pub multiplicity: u32,
     /// Kinetic energy shares (radial, circumferential, axial), summing to 1.
     pub energy_share: [f64; 3],
+    /// Share of the kinetic energy in the axle (0 without one).
+    #[serde(default)]
+    pub axle_energy_share: f64,
     /// Mode shape per section node (U_r, U_t, U_z), M-normalised; not written to JSON.
     #[serde(skip)]
     pub shape: Vec<[f64; 3]>,
@@ -503,7 +550,21 @@ fn solve_harmonic_with(
     let eigen_seconds = t_eig.elapsed().as_secs_f64();
     let k_scale = pencil.max_k_diagonal();
     let n_nodes = model.mesh.node_count();
-    let path_nodes = path_nodes(model);
+    let axle_path_nodes = path_nodes(model, &model.axle_path);
+    let path_nodes = path_nodes(model, &model.radial_path);
+    // Dofs of the nodes that only axle elements hold, in the permuted numbering.
+    let axle_only = axle_only_nodes(model);
+    let in_axle: Vec<bool> = {
+        let mut flag = vec![0.0; ndof];
+        for (i, node) in map.iter().enumerate() {
+            if axle_only[i] {
+                for (g, _) in node.iter().flatten() {
+                    flag[*g] = 1.0;
+                }
+            }
+        }
+        pencil.permute(&flag).iter().map(|&f| f > 0.5).collect()
+    };
     // Kinetic energy shares: x^T M x split by component (M couples only like components).
     // A dof shared by U_r and U_t (n = 1 axis node) counts as radial.
     let mut owner = vec![usize::MAX; ndof];
@@ -544,8 +605,20 @@ fn solve_harmonic_with(
         let mut share = pencil.component_energies(x, &owner_perm);
         let total: f64 = share.iter().sum::<f64>().max(f64::MIN_POSITIVE);
         share.iter_mut().for_each(|s| *s /= total);
+        // x^T M x split over dofs as x_j (M x)_j: the parts sum to the total exactly.
+        let (mut axle_e, mut all_e) = (0.0, 0.0);
+        for j in 0..ndof {
+            let e = x[j] * mx[j];
+            all_e += e;
+            if in_axle[j] {
+                axle_e += e;
+            }
+        }
+        let axle_energy_share = if all_e > 0.0 { axle_e / all_e } else { 0.0 };
         let family = if rigid {
             ModeFamily::Rigid
+        } else if axle_energy_share >= AXLE_FAMILY_SHARE {
+            ModeFamily::Axle
         } else if share[2] >= share[0] && share[2] >= share[1] {
             ModeFamily::Axial
         } else if share[0] >= share[1] {
@@ -553,21 +626,44 @@ fn solve_harmonic_with(
         } else {
             ModeFamily::Circumferential
         };
+        // The axle's dominant component along the axle, from end to end through the hub.
+        let mut e = [0.0f64; 3];
+        for &i in &axle_path_nodes {
+            for (c, ec) in e.iter_mut().enumerate() {
+                *ec += shape[i][c] * shape[i][c];
+            }
+        }
+        let axle_comp = (0..3).fold(0, |best, c| if e[c] > e[best] { c } else { best });
+        let axle_samples: Vec<f64> = axle_path_nodes
+            .iter()
+            .map(|&i| shape[i][axle_comp])
+            .collect();
         let comp = match family {
             ModeFamily::Radial => 0,
             ModeFamily::Circumferential => 1,
             _ => 2,
         };
-        let samples: Vec<f64> = path_nodes.iter().map(|&i| shape[i][comp]).collect();
+        let wheel_samples: Vec<f64> = path_nodes.iter().map(|&i| shape[i][comp]).collect();
+        let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let nodal_circles = if family == ModeFamily::Axle {
+            sign_changes(&axle_samples)
+        } else {
+            // Circles on the wheel, plus those along the axle where it moves at least 5 % as
+            // much as the wheel does.
+            let scale = peak(&wheel_samples).max(peak(&axle_samples));
+            sign_changes_above(&wheel_samples, NODAL_SIGN_THRESHOLD * scale)
+                + sign_changes_above(&axle_samples, NODAL_SIGN_THRESHOLD * scale)
+        };
         modes.push(AxisymMode {
             frequency_hz: freq,
             family,
-            nodal_circles: sign_changes(&samples),
+            nodal_circles,
             nodal_diameters: harmonic,
             harmonic,
             residual,
             multiplicity: if harmonic == 0 { 1 } else { 2 },
             energy_share: share,
+            axle_energy_share,
             shape,
         });
     }
@@ -584,10 +680,27 @@ fn solve_harmonic_with(
     Ok((modes, stats))
 }
 
-/// The nearest mesh node to each point of the radial path (consecutive repeats removed).
-fn path_nodes(model: &AxisymModel) -> Vec<usize> {
+/// Nodes that only axle elements hold (the hub-axle interface belongs to the wheel).
+fn axle_only_nodes(model: &AxisymModel) -> Vec<bool> {
+    let n = model.mesh.node_count();
+    let (mut axle, mut other) = (vec![false; n], vec![false; n]);
+    for (e, conn) in model.mesh.elements.iter().enumerate() {
+        let flag = if model.mesh.part[e] == part::AXLE {
+            &mut axle
+        } else {
+            &mut other
+        };
+        for &i in conn {
+            flag[i] = true;
+        }
+    }
+    (0..n).map(|i| axle[i] && !other[i]).collect()
+}
+
+/// The nearest mesh node to each point of a path (consecutive repeats removed).
+fn path_nodes(model: &AxisymModel, path: &[[f64; 2]]) -> Vec<usize> {
     let mut out: Vec<usize> = Vec::new();
-    for p in &model.radial_path {
+    for p in path {
         let best = (0..model.mesh.node_count())
             .min_by(|&a, &b| {
                 let da = dist2(model.mesh.nodes[a], *p);
@@ -613,10 +726,15 @@ pub fn sign_changes(samples: &[f64]) -> u32 {
     if peak == 0.0 {
         return 0;
     }
+    sign_changes_above(samples, NODAL_SIGN_THRESHOLD * peak)
+}
+
+/// Sign changes of a sampled displacement, ignoring samples of magnitude below `threshold`.
+pub fn sign_changes_above(samples: &[f64], threshold: f64) -> u32 {
     let mut last = 0.0f64;
     let mut count = 0;
     for &v in samples {
-        if v.abs() < NODAL_SIGN_THRESHOLD * peak {
+        if v.abs() < threshold || v == 0.0 {
             continue;
         }
         if last != 0.0 && v.signum() != last {

@@ -205,6 +205,7 @@ fn family_name(f: squeal::identify::ModeFamily) -> &'static str {
         Axial => "axial",
         Radial => "radial",
         Circumferential => "circumferential",
+        Axle => "axle",
         Rigid => "rigid",
     }
 }

@@ -25,9 +25,20 @@ pub struct CommonArgs {
     /// Highest peak frequency (Hz); must not exceed the Nyquist frequency of the history.
     #[arg(long, default_value_t = 10_000.0)]
     pub fmax: f64,
-    /// Welch segment length (default: automatic).
+    /// Welch segment length (default: chosen for --resolution-hz: one zero-padded segment of
+    /// a short window, averaged segments of a long one).
     #[arg(long)]
     pub nperseg: Option<usize>,
+    /// Largest PSD bin spacing (Hz); short windows are zero-padded to reach it.
+    #[arg(long, default_value_t = squeal::analysis::DEFAULT_RESOLUTION_HZ, allow_negative_numbers = true)]
+    pub resolution_hz: f64,
+    /// Start of the analysed window (ms). Default: the lateral-motion onset of a rolling run
+    /// (from run.json), else the first sample.
+    #[arg(long, allow_negative_numbers = true)]
+    pub from_ms: Option<f64>,
+    /// End of the analysed window (ms). Default: the last sample.
+    #[arg(long, allow_negative_numbers = true)]
+    pub to_ms: Option<f64>,
     /// Relative matching tolerance.
     #[arg(long, default_value_t = 0.05)]
     pub tolerance: f64,
@@ -67,6 +78,9 @@ impl CommonArgs {
             peaks: self.peaks,
             band_hz: (self.fmin, self.fmax),
             nperseg: self.nperseg,
+            resolution_hz: self.resolution_hz,
+            from_s: self.from_ms.map(|t| t * 1e-3),
+            to_s: self.to_ms.map(|t| t * 1e-3),
             tolerance: Tolerance {
                 relative: self.tolerance,
                 absolute_hz: self.tolerance_hz,
@@ -91,6 +105,7 @@ pub struct IdentifyArgs {
 pub fn run_identify(args: IdentifyArgs) -> Result<()> {
     let options = args.common.options()?;
     let analysis = analyse_run(&args.common.run_dir, &options)?;
+    print_window(&analysis);
     let md = to_markdown(
         &analysis.identifications,
         analysis.direction,
@@ -133,6 +148,7 @@ pub fn run_check_modes(args: CheckModesArgs) -> Result<bool> {
         .collect::<Result<_>>()?;
     let options = args.common.options()?;
     let analysis = analyse_run(&args.common.run_dir, &options)?;
+    print_window(&analysis);
     println!(
         "{}",
         to_markdown(
@@ -160,4 +176,17 @@ pub fn run_check_modes(args: CheckModesArgs) -> Result<bool> {
         }
         Ok(false)
     }
+}
+
+/// The analysed window and spectrum, one line.
+fn print_window(analysis: &squeal::analysis::RunAnalysis) {
+    let w = &analysis.window;
+    println!(
+        "{}: {:.2}-{:.2} ms (from {}); {}\n",
+        analysis.column,
+        w.from_s * 1e3,
+        w.to_s * 1e3,
+        w.start_from,
+        w.spectrum
+    );
 }

@@ -3,6 +3,7 @@
 pub mod axisym;
 pub mod bench;
 pub mod default_run;
+pub mod growth;
 pub mod identify;
 pub mod kalker;
 pub mod mesh;

@@ -425,7 +425,14 @@ fn solve_volume(
     }
     let sol = solve_band(args, &asm)?;
     let shapes = shapes_of(&sol, &asm);
-    let records = classify_modes_points(&mesh.nodes, &mesh.nodal_weights(), centre, &shapes);
+    let axle = squeal::modal::classify::axle_only_nodes_of(
+        mesh.nodes.len(),
+        mesh.elements
+            .iter()
+            .zip(&mesh.material)
+            .map(|(e, &m)| (e.nodes(), m)),
+    );
+    let records = classify_modes_points(&mesh.nodes, &mesh.nodal_weights(), &axle, centre, &shapes);
     write_outputs(args, &sol, &shapes, &records, |fields| {
         vtu::write_volume(mesh, &args.out.join("modes.vtu"), fields)
     })

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use squeal::report::run_report::build_report;
+use squeal::report::run_report::{build_report, ReportOptions};
 use squeal::Result;
 
 /// Arguments of `squeal report`.
@@ -19,15 +19,31 @@ pub struct ReportArgs {
     /// Root folder of reports.
     #[arg(long, default_value = "reports")]
     pub reports: PathBuf,
+    /// Start of the analysed window (ms). Default: each run's lateral-motion onset (run.json),
+    /// else its first sample.
+    #[arg(long, allow_negative_numbers = true)]
+    pub from_ms: Option<f64>,
+    /// End of the analysed window (ms). Default: the last sample.
+    #[arg(long, allow_negative_numbers = true)]
+    pub to_ms: Option<f64>,
+    /// Largest PSD bin spacing (Hz); short windows are zero-padded to reach it.
+    #[arg(long, allow_negative_numbers = true)]
+    pub resolution_hz: Option<f64>,
 }
 
 /// Run `squeal report`.
 pub fn run(args: ReportArgs) -> Result<()> {
     let out = args.reports.join(&args.name);
+    let options = ReportOptions {
+        from_s: args.from_ms.map(|t| t * 1e-3),
+        to_s: args.to_ms.map(|t| t * 1e-3),
+        resolution_hz: args.resolution_hz,
+    };
     let summary = build_report(
         &args.run_dirs,
         &out,
         &format!("squeal report: {}", args.name),
+        &options,
     )?;
     println!(
         "report with {} files and sections: {}",

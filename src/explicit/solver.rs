@@ -198,6 +198,9 @@ pub struct OutputFields {
     pub velocity: Vec<P3>,
     /// Acceleration at t_n.
     pub acceleration: Vec<P3>,
+    /// Per rigid body, the force that holds its prescribed translations (N, zero in the free
+    /// directions): `m (v_(n+1/2) - v_(n-1/2)) / dt - F`, what the guide applies to the body.
+    pub rigid_reaction_force_n: Vec<P3>,
 }
 
 /// The central-difference solver.
@@ -493,6 +496,7 @@ impl Solver {
                 displacement: vec![[0.0; 3]; n],
                 velocity: vec![[0.0; 3]; n],
                 acceleration: vec![[0.0; 3]; n],
+                rigid_reaction_force_n: vec![[0.0; 3]; model.rigid_bodies.len()],
             },
             f_int: vec![[0.0; 3]; n],
             f_aux: vec![[0.0; 3]; n],
@@ -1105,12 +1109,17 @@ impl Solver {
         }
         let v_old = st.velocity_m_per_s;
         let mut v_new = [0, 1, 2].map(|i| v_old[i] + dt * force[i] / st.mass_kg);
+        let mut reactions = [0.0; 3];
         for i in 0..3 {
             if let Some(c) = &spec.prescribed_translation_m[i] {
                 v_new[i] = (c.value(t + dt) - c.value(t)) / dt;
                 let reaction = st.mass_kg * (v_new[i] - v_old[i]) / dt - force[i];
                 w.reaction_j += dt * reaction * 0.5 * (v_old[i] + v_new[i]);
+                reactions[i] = reaction;
             }
+        }
+        if output {
+            self.output.rigid_reaction_force_n[b] = reactions;
         }
         let l_old = st.angular_momentum;
         let mut l_new = [0, 1, 2].map(|i| l_old[i] + dt * moment[i]);

@@ -35,6 +35,60 @@ pub fn wheel_radius_offset_m(y_m: f64, wheel_y_m: f64) -> f64 {
     s1002::height_mm((y_m - wheel_y_m) * 1e3) * 1e-3
 }
 
+/// Lateral position (m) of the first point of contact of S1002 on 54E1 for the tape circle at
+/// `wheel_y_m`: the closest approach, where `rail_top(y) + F(y)` is largest over the head (the
+/// wheel is lowered onto the rail), searched on a 0.01 mm grid. None when no tread point lies
+/// above the head.
+pub fn first_contact_y_m(wheel_y_m: f64) -> Option<f64> {
+    let mut best: Option<(f64, f64)> = None;
+    let mut y = -0.036;
+    while y <= 0.036 {
+        if let Some(z) = rail_top_height_m(y) {
+            let s_mm = (y - wheel_y_m) * 1e3;
+            if (s1002::S_FLANGE_BACK_MM..=s1002::S_FIELD_FACE_MM).contains(&s_mm) {
+                let v = z + wheel_radius_offset_m(y, wheel_y_m);
+                if best.is_none_or(|b| v > b.1) {
+                    best = Some((y, v));
+                }
+            }
+        }
+        y += 1e-5;
+    }
+    best.map(|b| b.0)
+}
+
+/// Contact angle (degrees) at lateral position `y_m` of the inclined rail top: the slope of the
+/// running surface, `atan(dz/dy)` by a central difference over 0.2 mm, positive where the
+/// surface falls towards the track centre (-y), so that the contact normal leans that way (the
+/// gauge side and the flange). None beyond the head.
+pub fn rail_contact_angle_deg(y_m: f64) -> Option<f64> {
+    let h = 1e-4;
+    let slope = (rail_top_height_m(y_m + h)? - rail_top_height_m(y_m - h)?) / (2.0 * h);
+    Some(slope.atan().to_degrees())
+}
+
+/// A contact angle from which the contact counts as flange contact (degrees): past the gauge
+/// corner (the rail's R13 arc, 15-30 degrees in S1002 on 54E1) and onto the flange flank,
+/// which stands at about 70 degrees.
+pub const FLANGE_CONTACT_ANGLE_DEG: f64 = 45.0;
+
+/// The smallest tape-circle position at or above `from_wheel_y_m` (m) at which S1002 on 54E1
+/// first touches with a contact angle of [`FLANGE_CONTACT_ANGLE_DEG`] or more: the wheel moving
+/// towards +y (field side) brings its flange to the rail's gauge face. Scanned in 0.05 mm steps
+/// up to 30 mm; None if no flange contact is found there.
+pub fn flange_contact_wheel_y_m(from_wheel_y_m: f64) -> Option<f64> {
+    let mut wheel_y = from_wheel_y_m;
+    while wheel_y <= 0.03 {
+        if let Some(angle) = first_contact_y_m(wheel_y).and_then(rail_contact_angle_deg) {
+            if angle >= FLANGE_CONTACT_ANGLE_DEG {
+                return Some(wheel_y);
+            }
+        }
+        wheel_y += 5e-5;
+    }
+    None
+}
+
 /// The contact point and Hertz curvatures of S1002 (tape-circle radius `wheel_radius_m`) on
 /// 54E1 at 1:40 for the wheel's tape circle at `wheel_y_m`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -63,22 +117,7 @@ pub fn s1002_on_54e1(wheel_y_m: f64, wheel_radius_m: f64) -> Result<ProfileConta
             format!("the tape circle must be within 30 mm of the rail centre, got {wheel_y_m} m"),
         ));
     }
-    // Closest approach: maximise rail_top(y) + F(y) over the head (the wheel is lowered onto it).
-    let mut best: Option<(f64, f64)> = None;
-    let mut y = -0.036;
-    while y <= 0.036 {
-        if let Some(z) = rail_top_height_m(y) {
-            let s_mm = (y - wheel_y_m) * 1e3;
-            if (s1002::S_FLANGE_BACK_MM..=s1002::S_FIELD_FACE_MM).contains(&s_mm) {
-                let v = z + wheel_radius_offset_m(y, wheel_y_m);
-                if best.is_none_or(|b| v > b.1) {
-                    best = Some((y, v));
-                }
-            }
-        }
-        y += 1e-5;
-    }
-    let (y0, _) = best.ok_or_else(|| {
+    let y0 = first_contact_y_m(wheel_y_m).ok_or_else(|| {
         Error::input(
             "command line",
             "--wheel-y",

@@ -7,10 +7,16 @@
 //! - nodal diameters n: circumferential Fourier amplitudes of the rim motion (nodes with
 //!   radius > 0.9 R_max), `a_0 = |sum w u| / sum w`, `a_n = 2 |sum w u e^{-i n theta}| / sum w`,
 //!   summed in power over the three components; n maximises it;
+//! - axle family: a wheel with its half axle has modes that are mostly the axle's; a mode with at
+//!   least [`crate::axisym::AXLE_FAMILY_SHARE`] of its kinetic energy on the nodes that only
+//!   axle elements hold is of the axle family (as in the axisymmetric solver);
 //! - nodal circles m: at the angle of largest rim motion, the family component (axial for axial
-//!   modes, radial for radial, circumferential otherwise) averaged in radial bins from the
-//!   innermost to the outermost radius; m = number of sign changes between bins whose value is
-//!   above 5 % of the largest (smaller ones are treated as near a node line and skipped);
+//!   modes, radial for radial, circumferential otherwise) of the wheel's nodes (not the axle's)
+//!   averaged in radial bins from the innermost to the outermost radius; m = number of sign
+//!   changes between bins whose value is above 5 % of the largest (smaller ones are treated as
+//!   near a node line and skipped); plus, with an axle, the sign changes of the axle's dominant
+//!   component binned along the axle on the same meridian (counted where the axle moves at
+//!   least 5 % as much as the wheel); an axle-family mode counts along the axle only;
 //! - repeated pairs: neighbours with the same n > 0, same family and `|f1 - f2| / f < 1e-3`.
 
 #![allow(clippy::needless_range_loop)]
@@ -83,6 +89,36 @@ pub fn nodal_weights(mesh: &Mesh) -> Vec<f64> {
     w
 }
 
+/// Nodes that only axle elements hold (`mesh::material::AXLE`); all false without an axle.
+pub fn axle_only_nodes(mesh: &Mesh) -> Vec<bool> {
+    axle_only_nodes_of(
+        mesh.node_count(),
+        mesh.elements
+            .iter()
+            .zip(&mesh.material)
+            .map(|(conn, &m)| (conn.as_slice(), m)),
+    )
+}
+
+/// [`axle_only_nodes`] for any mesh given as (element nodes, material id) pairs.
+pub fn axle_only_nodes_of<'a>(
+    n: usize,
+    elements: impl Iterator<Item = (&'a [usize], u32)>,
+) -> Vec<bool> {
+    let (mut axle, mut other) = (vec![false; n], vec![false; n]);
+    for (conn, material) in elements {
+        let is_axle = material == crate::mesh::material::AXLE;
+        for &i in conn {
+            if is_axle {
+                axle[i] = true;
+            } else {
+                other[i] = true;
+            }
+        }
+    }
+    (0..n).map(|i| axle[i] && !other[i]).collect()
+}
+
 /// Classify one shape `u` (per node) about the y-parallel axis through `centre`.
 pub fn classify_shape(
     mesh: &Mesh,
@@ -90,16 +126,36 @@ pub fn classify_shape(
     centre: [f64; 3],
     u: &[[f64; 3]],
 ) -> ShapeClass {
-    classify_shape_points(&mesh.nodes, weights, centre, u)
+    classify_shape_points(&mesh.nodes, weights, &axle_only_nodes(mesh), centre, u)
 }
 
-/// [`classify_shape`] on bare node coordinates (any mesh kind).
+/// Sign changes of binned values, skipping bins below `threshold` in magnitude.
+fn sign_changes_above(values: &[f64], threshold: f64) -> u32 {
+    let mut last_sign = 0.0;
+    let mut count = 0;
+    for &v in values {
+        if v.abs() < threshold || v == 0.0 {
+            continue;
+        }
+        let s = v.signum();
+        if last_sign != 0.0 && s != last_sign {
+            count += 1;
+        }
+        last_sign = s;
+    }
+    count
+}
+
+/// [`classify_shape`] on bare node coordinates (any mesh kind); `axle` flags the nodes of the
+/// half axle (empty: no axle).
 pub fn classify_shape_points(
     nodes: &[[f64; 3]],
     weights: &[f64],
+    axle: &[bool],
     centre: [f64; 3],
     u: &[[f64; 3]],
 ) -> ShapeClass {
+    let is_axle = |i: usize| axle.get(i).copied().unwrap_or(false);
     let n_nodes = nodes.len();
     let mut cyl = vec![[0.0; 3]; n_nodes]; // axial, radial, circumferential
     let mut radius = vec![0.0; n_nodes];
@@ -142,11 +198,24 @@ pub fn classify_shape_points(
     let fam_k = (0..3)
         .max_by(|&a, &b| share[a].total_cmp(&share[b]))
         .unwrap_or(0);
-    let family = [
-        ModeFamily::Axial,
-        ModeFamily::Radial,
-        ModeFamily::Circumferential,
-    ][fam_k];
+    let axle_energy: f64 = (0..n_nodes)
+        .filter(|&i| is_axle(i))
+        .map(|i| weights[i] * (u[i][0] * u[i][0] + u[i][1] * u[i][1] + u[i][2] * u[i][2]))
+        .sum();
+    let all_energy: f64 = (0..n_nodes)
+        .map(|i| weights[i] * (u[i][0] * u[i][0] + u[i][1] * u[i][1] + u[i][2] * u[i][2]))
+        .sum();
+    let axle_mode =
+        all_energy > 0.0 && axle_energy / all_energy >= crate::axisym::AXLE_FAMILY_SHARE;
+    let family = if axle_mode {
+        ModeFamily::Axle
+    } else {
+        [
+            ModeFamily::Axial,
+            ModeFamily::Radial,
+            ModeFamily::Circumferential,
+        ][fam_k]
+    };
 
     let rim: Vec<usize> = (0..n_nodes).filter(|&i| radius[i] > 0.9 * r_max).collect();
     let wsum: f64 = rim.iter().map(|&i| weights[i]).sum::<f64>().max(1e-300);
@@ -180,51 +249,76 @@ pub fn classify_shape_points(
     let mut nodal_circles = 0;
     if let Some(p) = peak {
         let theta0 = angle[p];
-        let r_min = radius.iter().cloned().fold(f64::INFINITY, f64::min);
-        // nodes within a small angular window of theta0 (revolved meshes: the same meridian)
-        let window = 0.02;
-        let bins = 24usize;
-        let mut sum = vec![0.0; bins];
-        let mut cnt = vec![0.0; bins];
-        for i in 0..n_nodes {
-            let mut d = (angle[i] - theta0).rem_euclid(std::f64::consts::TAU);
-            if d > std::f64::consts::PI {
-                d -= std::f64::consts::TAU;
-            }
-            if d.abs() * radius[i] > window * r_max {
-                continue;
-            }
-            let b = (((radius[i] - r_min) / (r_max - r_min + 1e-300)) * bins as f64) as usize;
-            let b = b.min(bins - 1);
-            let value = if on_axis(i) {
-                let (c, s) = (theta0.cos(), theta0.sin());
+        let (c0, s0) = (theta0.cos(), theta0.sin());
+        let component = |i: usize, k: usize| {
+            if on_axis(i) {
                 [
                     u[i][1],
-                    u[i][0] * c + u[i][2] * s,
-                    -u[i][0] * s + u[i][2] * c,
-                ][comp]
+                    u[i][0] * c0 + u[i][2] * s0,
+                    -u[i][0] * s0 + u[i][2] * c0,
+                ][k]
             } else {
-                cyl[i][comp]
-            };
-            sum[b] += weights[i] * value;
-            cnt[b] += weights[i];
-        }
-        let vals: Vec<f64> = (0..bins)
-            .filter(|&b| cnt[b] > 0.0)
-            .map(|b| sum[b] / cnt[b])
+                cyl[i][k]
+            }
+        };
+        // nodes within a small angular window of theta0 (revolved meshes: the same meridian)
+        let window = 0.02;
+        let meridian: Vec<usize> = (0..n_nodes)
+            .filter(|&i| {
+                let mut d = (angle[i] - theta0).rem_euclid(std::f64::consts::TAU);
+                if d > std::f64::consts::PI {
+                    d -= std::f64::consts::TAU;
+                }
+                d.abs() * radius[i] <= window * r_max
+            })
             .collect();
-        let vmax = vals.iter().fold(0.0f64, |a, &v| a.max(v.abs()));
-        let mut last_sign = 0.0;
-        for v in vals {
-            if v.abs() < 0.05 * vmax {
-                continue;
+        let bins = 24usize;
+        let binned = |members: &[usize], coord: &dyn Fn(usize) -> f64, k: usize| -> Vec<f64> {
+            let lo = members
+                .iter()
+                .map(|&i| coord(i))
+                .fold(f64::INFINITY, f64::min);
+            let hi = members
+                .iter()
+                .map(|&i| coord(i))
+                .fold(f64::NEG_INFINITY, f64::max);
+            let mut sum = vec![0.0; bins];
+            let mut cnt = vec![0.0; bins];
+            for &i in members {
+                let b = (((coord(i) - lo) / (hi - lo + 1e-300)) * bins as f64) as usize;
+                let b = b.min(bins - 1);
+                sum[b] += weights[i] * component(i, k);
+                cnt[b] += weights[i];
             }
-            let s = v.signum();
-            if last_sign != 0.0 && s != last_sign {
-                nodal_circles += 1;
+            (0..bins)
+                .filter(|&b| cnt[b] > 0.0)
+                .map(|b| sum[b] / cnt[b])
+                .collect()
+        };
+        let wheel: Vec<usize> = meridian.iter().copied().filter(|&i| !is_axle(i)).collect();
+        let shaft: Vec<usize> = meridian.iter().copied().filter(|&i| is_axle(i)).collect();
+        let wheel_vals = binned(&wheel, &|i| radius[i], comp);
+        // The axle's dominant component on the meridian, binned along the axle (y).
+        let mut axle_e = [0.0f64; 3];
+        for &i in &shaft {
+            for (k, e) in axle_e.iter_mut().enumerate() {
+                *e += weights[i] * component(i, k) * component(i, k);
             }
-            last_sign = s;
         }
+        let axle_k = (0..3).fold(0, |b, k| if axle_e[k] > axle_e[b] { k } else { b });
+        let axle_vals = if shaft.is_empty() {
+            Vec::new()
+        } else {
+            binned(&shaft, &|i| nodes[i][1], axle_k)
+        };
+        let peak_of = |v: &[f64]| v.iter().fold(0.0f64, |a, &x| a.max(x.abs()));
+        nodal_circles = if axle_mode {
+            sign_changes_above(&axle_vals, 0.05 * peak_of(&axle_vals))
+        } else {
+            let scale = peak_of(&wheel_vals).max(peak_of(&axle_vals));
+            sign_changes_above(&wheel_vals, 0.05 * scale)
+                + sign_changes_above(&axle_vals, 0.05 * scale)
+        };
     }
     ShapeClass {
         family,
@@ -240,7 +334,13 @@ pub fn classify_modes(
     centre: [f64; 3],
     modes: &[(f64, f64, bool, Vec<[f64; 3]>)],
 ) -> Vec<ModeRecord> {
-    classify_modes_points(&mesh.nodes, &nodal_weights(mesh), centre, modes)
+    classify_modes_points(
+        &mesh.nodes,
+        &nodal_weights(mesh),
+        &axle_only_nodes(mesh),
+        centre,
+        modes,
+    )
 }
 
 /// [`classify_modes`] on bare node coordinates and nodal weights (any mesh kind, e.g. a
@@ -249,12 +349,13 @@ pub fn classify_modes(
 pub fn classify_modes_points(
     nodes: &[[f64; 3]],
     weights: &[f64],
+    axle: &[bool],
     centre: [f64; 3],
     modes: &[(f64, f64, bool, Vec<[f64; 3]>)],
 ) -> Vec<ModeRecord> {
     let classes: Vec<ShapeClass> = modes
         .iter()
-        .map(|(_, _, _, u)| classify_shape_points(nodes, weights, centre, u))
+        .map(|(_, _, _, u)| classify_shape_points(nodes, weights, axle, centre, u))
         .collect();
     let mut out: Vec<ModeRecord> = Vec::new();
     let mut i = 0;
@@ -283,7 +384,7 @@ pub fn classify_modes_points(
                 c.nodal_diameters,
                 c.family,
             );
-            classify_shape_points(nodes, weights, centre, &aligned).nodal_circles
+            classify_shape_points(nodes, weights, axle, centre, &aligned).nodal_circles
         } else {
             c.nodal_circles
         };

@@ -4,3 +4,4 @@
 pub mod chart;
 pub mod patch_maps;
 pub mod run_report;
+pub mod table3;

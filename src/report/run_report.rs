@@ -174,8 +174,37 @@ fn wavelet_chart(
     })
 }
 
+/// How the report analyses the vibration.
+#[derive(Clone, Debug, Default)]
+pub struct ReportOptions {
+    /// Start of the analysed window (s); None: each run's lateral-motion onset, else its first
+    /// sample (see [`crate::analysis`]).
+    pub from_s: Option<f64>,
+    /// End of the analysed window (s); None: the last sample.
+    pub to_s: Option<f64>,
+    /// Largest PSD bin spacing (Hz); None: [`crate::analysis::DEFAULT_RESOLUTION_HZ`].
+    pub resolution_hz: Option<f64>,
+}
+
+/// Bands followed in the squeal section: the zero-nodal-circle axial modes the paper finds,
+/// (0,0) on the rim mean (n = 0 motion), (0,3) and (0,4) on the rim point less the rim mean
+/// (n >= 1 motion: the hub's lateral motion cannot drive it).
+const SQUEAL_BANDS: [(u32, u32, &str); 3] = [
+    (0, 0, "rim_mean_lateral_velocity_m_per_s"),
+    (0, 3, "rim_point_minus_mean_lateral_velocity_m_per_s"),
+    (0, 4, "rim_point_minus_mean_lateral_velocity_m_per_s"),
+];
+
+/// Window of the growth-rate fits in the squeal section (s).
+const GROWTH_WINDOW_S: f64 = 0.004;
+
 /// Build the report for `run_dirs` into `out_dir`.
-pub fn build_report(run_dirs: &[PathBuf], out_dir: &Path, title: &str) -> Result<ReportSummary> {
+pub fn build_report(
+    run_dirs: &[PathBuf],
+    out_dir: &Path,
+    title: &str,
+    report_options: &ReportOptions,
+) -> Result<ReportSummary> {
     if run_dirs.is_empty() {
         return Err(Error::input(
             "command line",
@@ -215,6 +244,11 @@ pub fn build_report(run_dirs: &[PathBuf], out_dir: &Path, title: &str) -> Result
                         signal: col.to_string(),
                         peaks: 3,
                         band_hz: (50.0_f64.min(0.1 * fs), (0.45 * fs).min(10_000.0)),
+                        from_s: report_options.from_s,
+                        to_s: report_options.to_s,
+                        resolution_hz: report_options
+                            .resolution_hz
+                            .unwrap_or(crate::analysis::DEFAULT_RESOLUTION_HZ),
                         ..Default::default()
                     };
                     analyses.push(analyse_run(dir, &options)?);
@@ -333,6 +367,20 @@ pub fn build_report(run_dirs: &[PathBuf], out_dir: &Path, title: &str) -> Result
             md,
             "![{d} history]({stem}.png)\n![{d} PSD]({stem}_psd.png)\n"
         );
+        for r in &runs {
+            if let Some(a) = r.analyses.iter().find(|a| a.column.starts_with(d)) {
+                let _ = writeln!(
+                    md,
+                    "- PSD of {}: {:.2}-{:.2} ms (from {}); {}",
+                    r.name,
+                    a.window.from_s * 1e3,
+                    a.window.to_s * 1e3,
+                    a.window.start_from,
+                    a.window.spectrum
+                );
+            }
+        }
+        let _ = writeln!(md);
         files.extend([format!("{stem}.png"), format!("{stem}_psd.png")]);
     }
 
@@ -404,6 +452,22 @@ pub fn build_report(run_dirs: &[PathBuf], out_dir: &Path, title: &str) -> Result
             let _ = writeln!(md, "![{stem}]({stem}.png)\n");
             files.push(format!("{stem}.png"));
         }
+    }
+    // ---- The paper's operating point (Table 3) beside ours.
+    let mut points = Vec::new();
+    for r in &runs {
+        if let Some(op) = super::table3::operating_point(&r.dir)? {
+            points.push((r.name.clone(), op));
+        }
+    }
+    if !points.is_empty() {
+        heading(&mut md, "Operating point against the paper's Table 3");
+        md.push_str(&super::table3::to_markdown(&points));
+        let path = out_dir.join("table3.json");
+        let json = serde_json::to_string_pretty(&points)
+            .map_err(|e| Error::Numerical(format!("table3.json: {e}")))?;
+        std::fs::write(&path, json).map_err(|e| Error::io(&path, e))?;
+        files.push("table3.json".into());
     }
     // Contact-patch snapshots (rolling runs): maps and centre line.
     let mut patch_md = String::new();
@@ -488,6 +552,134 @@ pub fn build_report(run_dirs: &[PathBuf], out_dir: &Path, title: &str) -> Result
                 );
             }
         }
+    }
+
+    // ---- Squeal: do the zero-nodal-circle modes grow?
+    let mut squeal_md = String::new();
+    for r in &runs {
+        let Some(modes) = &r.modes else { continue };
+        let mut series_out = Vec::new();
+        let mut tables = String::new();
+        for (k, &(m, n, column)) in SQUEAL_BANDS.iter().enumerate() {
+            if r.histories.column(column).is_none() {
+                continue;
+            }
+            let Ok(bands) = crate::growth::bands_for_modes(modes, &[(m, n)], 0.05) else {
+                continue;
+            };
+            let series = crate::growth::read_column(&r.dir, column)?;
+            let from_s = report_options
+                .from_s
+                .or_else(|| crate::analysis::lateral_onset_s(&r.dir))
+                .unwrap_or(series.start_time_s);
+            let g = crate::growth::band_growth(&series, &bands, from_s, GROWTH_WINDOW_S)?;
+            tables.push_str(&crate::growth::to_markdown(&g));
+            tables.push('\n');
+            for b in &g.bands {
+                let pts: Vec<(f64, f64)> = g
+                    .time_s
+                    .iter()
+                    .zip(&b.ridge)
+                    .filter(|(_, a)| a.is_finite() && **a > 0.0)
+                    .map(|(t, a)| (t * 1e3, *a))
+                    .collect();
+                series_out.push(Series::line(
+                    &format!(
+                        "{} ({})",
+                        b.band.name,
+                        if n == 0 {
+                            "rim mean"
+                        } else {
+                            "rim point - mean"
+                        }
+                    ),
+                    pts.iter().map(|p| p.0).collect(),
+                    pts.iter().map(|p| p.1).collect(),
+                    k,
+                ));
+            }
+        }
+        if series_out.is_empty() {
+            continue;
+        }
+        let stem = format!("squeal_ridges_{}", r.name);
+        write(
+            &LineChart {
+                title: format!(
+                    "{}: wavelet ridge amplitude in the bands of (0,0), (0,3), (0,4)",
+                    r.name
+                ),
+                x_label: "time (ms)".into(),
+                y_label: "ridge amplitude (m/s)".into(),
+                series: series_out,
+                log_y: true,
+                ..Default::default()
+            },
+            Some(&out_dir.join(format!("{stem}.png"))),
+            Some(&out_dir.join(format!("{stem}.svg"))),
+        )?;
+        files.push(format!("{stem}.png"));
+        let _ = writeln!(
+            squeal_md,
+            "### {}\n\n![{stem}]({stem}.png)\n\n{tables}",
+            r.name
+        );
+    }
+    // rms of the rim's lateral vibration against the hub's lateral motion, per run.
+    let mut rms_md = String::new();
+    for r in &runs {
+        let t = r.histories.column("time_s").unwrap_or(&[]);
+        let cols = [
+            "lateral_velocity_m_per_s",
+            "rim_mean_lateral_velocity_m_per_s",
+            "rim_point_minus_mean_lateral_velocity_m_per_s",
+            "wheel_centre_y_velocity_m_per_s",
+        ];
+        let Some(values) = cols
+            .iter()
+            .map(|c| r.histories.column(c))
+            .collect::<Option<Vec<&[f64]>>>()
+        else {
+            continue;
+        };
+        let from_s = report_options
+            .from_s
+            .or_else(|| crate::analysis::lateral_onset_s(&r.dir))
+            .unwrap_or(t.first().copied().unwrap_or(0.0));
+        let to_s = report_options.to_s.unwrap_or(f64::INFINITY);
+        let rms = |v: &[f64]| {
+            let (sum, count) = t
+                .iter()
+                .zip(v)
+                .filter(|(tt, _)| **tt >= from_s && **tt <= to_s)
+                .fold((0.0, 0usize), |a, (_, x)| (a.0 + x * x, a.1 + 1));
+            if count > 0 {
+                (sum / count as f64).sqrt()
+            } else {
+                f64::NAN
+            }
+        };
+        let _ = writeln!(
+            rms_md,
+            "| {} | {:.1}- ms | {:.4} | {:.4} | {:.4} | {:.4} |",
+            r.name,
+            from_s * 1e3,
+            rms(values[0]),
+            rms(values[1]),
+            rms(values[2]),
+            rms(values[3])
+        );
+    }
+    if !rms_md.is_empty() {
+        heading(&mut md, "Lateral wheel vibration: rim against hub");
+        md.push_str("rms lateral velocity (m/s) in the frame that moves with the wheelset, from the lateral-motion onset (or --from-ms): rim point, rim mean (n = 0 motion, which the hub's lateral motion drives), rim point less rim mean (n >= 1 motion, driven only from the contact), and the hub's own lateral velocity (track frame).\n\n| run | window | rim point | rim mean (n = 0) | rim point - mean (n >= 1) | hub |\n|---|---|---|---|---|---|\n");
+        md.push_str(&rms_md);
+        md.push('\n');
+    }
+    if !squeal_md.is_empty() {
+        heading(&mut md, "Squeal modes over time (wavelet ridges)");
+        md.push_str("Ridge amplitude of the Morlet wavelet power in each mode's band (+-5 %) and its growth rate per 4 ms window (slope of ln A). (0,0) is followed on the rim mean, (0,3) and (0,4) on the rim point less the rim mean: the n >= 1 motion, which the hub's lateral motion does not drive.\n\n");
+        md.push_str(&squeal_md);
     }
 
     // ---- Sound.

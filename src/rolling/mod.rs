@@ -23,6 +23,8 @@
 //! `patches/patch_*.csv|json`, `energy.csv`, `status.json`, `run.json`, VTU snapshots.
 
 pub mod case;
+pub mod instruments;
+pub mod lateral;
 
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -41,6 +43,7 @@ use crate::explicit::solver::OutputFields;
 use crate::explicit::{AuxForces, Curve, ElasticMaterial, Formulation, Model, Solver, Spring};
 use crate::mesh::{material, P3};
 use crate::{Error, Result};
+use instruments::{contact_kinematics, ContactKinematics, ContactPointRecord};
 
 pub use crate::explicit::run::StopFlag;
 pub use case::{embedded_default_case, load_case, LoadedCase, RollingCase};
@@ -262,7 +265,7 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
     // free to move apart in x and to turn about z, the half wheelset would yaw under the
     // single wheel's traction, and the yaw angle is a lateral creepage (PAPER.md: the same
     // lateral motion at both ends so that "the angle of attack stays about zero").
-    let lateral = lateral_curve(case);
+    let lateral = lateral_curve(case)?;
     let mut both_ends: Vec<usize> = model.node_set("axle_inner_end")?;
     both_ends.extend(model.node_set("axle_outer_end")?);
     model.mesh.add_node_set("axle_ends", both_ends);
@@ -352,6 +355,9 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         largest_penalty_scale: pair.largest_penalty_scale(),
         initial_gap_m: clearance.smallest_gap_m,
     };
+    // From the profiles: where the flange would touch the rail if the wheel moved towards the
+    // field side (the flange clearance is measured against it).
+    let flange_contact_wheel_y_m = crate::kalker::profiles::flange_contact_wheel_y_m(centre[1]);
     let contact = RollingContact {
         pair,
         rim_node,
@@ -364,6 +370,12 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         resuming: false,
         lost_since_s: None,
         longest_loss_s: 0.0,
+        axle_body: axle,
+        tape_circle_y_m: centre[1],
+        flange_contact_wheel_y_m,
+        kinematics: None,
+        contact_point: None,
+        forward_guide_force_n: 0.0,
     };
     Ok(RollingModel {
         solver,
@@ -495,17 +507,30 @@ fn prescribe_creepage(
     times.push(end);
     values.push(spin(ramp.end));
     let spin_curve = Curve::new(times, values, "creepage")?;
+    hold_forward_speed(m, speed_m_per_s)?;
+    let body = &mut m.solver.model.rigid_bodies[m.axle_body];
+    body.prescribed_spin_rad_per_s = Some(spin_curve);
+    body.torque = None;
+    Ok(())
+}
+
+/// The forward guide: from now on the axle body's centre moves along x at the rolling speed
+/// (see [`RollingCase::hold_forward_speed`]); the force that holds it is the body's reaction.
+///
+/// The engine takes the body's velocity from the curve's slope alone, so a run resumed from a
+/// checkpoint gets the same guide from a curve laid from its own start.
+fn hold_forward_speed(m: &mut RollingModel, speed_m_per_s: f64) -> Result<()> {
+    let t0 = m.solver.time_s;
+    // Longer than any case (end_time_s <= 1 s): the curve holds its last value after its end.
+    let end = t0 + 2.0;
     let axle = m.axle_body;
     let centre_x = m.solver.rigid[axle].centre_m[0] - m.solver.rigid[axle].centre0_m[0];
     let forward = Curve::new(
         vec![t0, end],
         vec![centre_x, centre_x + speed_m_per_s * (end - t0)],
-        "creepage",
+        "hold_forward_speed",
     )?;
-    let body = &mut m.solver.model.rigid_bodies[axle];
-    body.prescribed_spin_rad_per_s = Some(spin_curve);
-    body.prescribed_translation_m[0] = Some(forward);
-    body.torque = None;
+    m.solver.model.rigid_bodies[axle].prescribed_translation_m[0] = Some(forward);
     Ok(())
 }
 
@@ -616,23 +641,11 @@ fn rim_face_nodes(nodes: &[P3], wheelset: &[usize], centre: P3) -> Vec<usize> {
         .collect()
 }
 
-/// Lateral displacement of the axle ends against time.
-fn lateral_curve(case: &RollingCase) -> Curve {
-    let end = case.end_time_s + 1.0;
-    match case.lateral_motion {
-        None => Curve::constant(0.0),
-        Some(l) if l.start_s > 0.0 => Curve::new(
-            vec![0.0, l.start_s, end],
-            vec![0.0, 0.0, l.velocity_m_per_s * (end - l.start_s)],
-            "lateral_motion",
-        )
-        .unwrap_or_else(|_| Curve::constant(0.0)),
-        Some(l) => Curve::new(
-            vec![0.0, end],
-            vec![0.0, l.velocity_m_per_s * end],
-            "lateral_motion",
-        )
-        .unwrap_or_else(|_| Curve::constant(0.0)),
+/// Lateral displacement of the axle ends against time (C1, see [`lateral`]).
+fn lateral_curve(case: &RollingCase) -> Result<Curve> {
+    match &case.lateral_motion {
+        None => Ok(Curve::constant(0.0)),
+        Some(l) => l.curve(),
     }
 }
 
@@ -654,12 +667,37 @@ pub struct RollingContact {
     lost_since_s: Option<f64>,
     /// Longest loss of contact so far (s).
     longest_loss_s: f64,
+    /// The axle-end rigid body (its reaction is the forward guide's force).
+    axle_body: usize,
+    /// Reference lateral position of the wheel's tape circle (m).
+    tape_circle_y_m: f64,
+    /// Tape-circle position of first flange contact from the profiles (m), if any.
+    flange_contact_wheel_y_m: Option<f64>,
+    /// Contact kinematics of the last sample.
+    kinematics: Option<ContactKinematics>,
+    /// Contact point and flange clearance over the run.
+    pub contact_point: Option<ContactPointRecord>,
+    /// Longitudinal force of the forward guide on the axle at the last sample (N).
+    forward_guide_force_n: f64,
+}
+
+impl RollingContact {
+    /// Flange clearance (mm) for the lateral offset of the tread at the contact; NaN when the
+    /// profiles give no flange contact.
+    fn flange_clearance_mm(&self, k: &ContactKinematics) -> f64 {
+        match self.flange_contact_wheel_y_m {
+            Some(y) => (y - (self.tape_circle_y_m + k.lateral_offset_m)) * 1e3,
+            None => f64::NAN,
+        }
+    }
 }
 
 /// Header of `contact_forces.csv`: forces on the wheel (N) in track axes: the totals
 /// (normal plus friction parts) per axis, the friction parts alone (`*_creep_force_n`), their
 /// magnitude (`creep_force_n`) and the traction bound `sum mu |f_N|`.
-pub const CONTACT_FORCE_COLUMNS: &str = "time_s,normal_force_n,longitudinal_force_n,lateral_force_n,vertical_force_n,creep_force_n,traction_bound_n,traction_coefficient,contact_nodes,max_penetration_m,longitudinal_creep_force_n,lateral_creep_force_n";
+/// Then where the contact sits (see [`instruments`]): wheel profile coordinate S, rail lateral
+/// position, contact angle, and the flange clearance.
+pub const CONTACT_FORCE_COLUMNS: &str = "time_s,normal_force_n,longitudinal_force_n,lateral_force_n,vertical_force_n,creep_force_n,traction_bound_n,traction_coefficient,contact_nodes,max_penetration_m,longitudinal_creep_force_n,lateral_creep_force_n,contact_wheel_s_mm,contact_rail_y_mm,contact_angle_deg,flange_clearance_mm";
 
 impl RollingContact {
     fn write_forces(&mut self, time_s: f64) -> Result<()> {
@@ -724,6 +762,19 @@ impl RollingContact {
         // The tangential (friction) parts alone: the totals above also hold the normal force's
         // components along the inclined contact normal.
         for x in [tangential[0], tangential[1]] {
+            row.push(',');
+            push_num(&mut row, x);
+        }
+        let point = match (count > 0, self.kinematics) {
+            (true, Some(k)) => [
+                k.wheel_s_mm,
+                k.rail_y_mm,
+                k.contact_angle_deg,
+                self.flange_clearance_mm(&k),
+            ],
+            _ => [f64::NAN; 4],
+        };
+        for x in point {
             row.push(',');
             push_num(&mut row, x);
         }
@@ -802,6 +853,23 @@ pub const VIBRATION_COLUMNS: [&str; 7] = [
     "wheel_spin_rad_per_s",
 ];
 
+/// Contact and guide columns of `histories.csv` (after [`VIBRATION_COLUMNS`]); none starts
+/// with a direction word, so `--signal lateral` still names one column:
+/// - the n >= 1 part of the rim's lateral vibration: rim point minus rim mean (an n = 0 mode
+///   moves every rim point alike and cancels);
+/// - the lateral velocities of tread and rail head at the contact, and the pressure-weighted
+///   lateral and longitudinal micro-slip velocities (divided by the rolling speed: creepages),
+///   see [`instruments`];
+/// - the longitudinal force of the forward guide on the axle (0 without it).
+pub const CONTACT_HISTORY_COLUMNS: [&str; 6] = [
+    "rim_point_minus_mean_lateral_velocity_m_per_s",
+    "contact_tread_lateral_velocity_m_per_s",
+    "contact_rail_lateral_velocity_m_per_s",
+    "microslip_lateral_m_per_s",
+    "microslip_longitudinal_m_per_s",
+    "forward_guide_force_n",
+];
+
 impl AuxForces for RollingContact {
     fn add_forces(&mut self, time_s: f64, dt_s: f64, u: &[P3], v: &[P3], force: &mut [P3]) {
         self.pair.add_forces(time_s, dt_s, u, v, force);
@@ -812,7 +880,11 @@ impl AuxForces for RollingContact {
     }
 
     fn history_columns(&self) -> Vec<String> {
-        VIBRATION_COLUMNS.iter().map(|s| s.to_string()).collect()
+        VIBRATION_COLUMNS
+            .iter()
+            .chain(CONTACT_HISTORY_COLUMNS.iter())
+            .map(|s| s.to_string())
+            .collect()
     }
 
     fn push_history_values(
@@ -837,6 +909,38 @@ impl AuxForces for RollingContact {
         ] {
             row.push(',');
             push_num(row, x);
+        }
+        self.kinematics = contact_kinematics(&self.pair, reference, output, self.tape_circle_y_m);
+        self.forward_guide_force_n = output
+            .rigid_reaction_force_n
+            .get(self.axle_body)
+            .map_or(0.0, |r| r[0]);
+        let k = self.kinematics.unwrap_or_default();
+        if let Some(kin) = self.kinematics {
+            let clearance = self.flange_clearance_mm(&kin);
+            let flange_y_mm = self.flange_contact_wheel_y_m.map_or(f64::NAN, |y| y * 1e3);
+            match self.contact_point.as_mut() {
+                Some(record) => record.update(&kin, clearance),
+                None => {
+                    self.contact_point =
+                        Some(ContactPointRecord::start(&kin, clearance, flange_y_mm))
+                }
+            }
+        }
+        for x in [
+            point[1] - mean[1],
+            k.tread_lateral_velocity_m_per_s,
+            k.rail_lateral_velocity_m_per_s,
+            k.lateral_microslip_m_per_s,
+            k.longitudinal_microslip_m_per_s,
+            self.forward_guide_force_n,
+        ] {
+            row.push(',');
+            push_num(row, x);
+        }
+        // A resumed run does not repeat the snapshots before its restart.
+        if self.resuming {
+            self.patch_times_s.retain(|&t| t >= time_s - 1e-9);
         }
         // Patch snapshots at the first sample at or after each requested time.
         while let Some(&t) = self.patch_times_s.first() {
@@ -914,6 +1018,9 @@ pub struct RunRecord {
     pub largest_node_shear_over_bound: f64,
     /// Deepest penetration over every contact node and every rolling step (m), same span.
     pub deepest_penetration_m: f64,
+    /// Where the contact sat on both profiles, its angle, and the flange clearance, at the
+    /// start of rolling (or the resume) and over the run.
+    pub contact_point: Option<ContactPointRecord>,
 }
 
 /// Largest wheel-rail gap accepted before the preload (m): the static preload settles a wheel
@@ -1011,8 +1118,12 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         m.solver.v[m.sprung_node] = [speed, 0.0, 0.0];
         if let Some(ramp) = case.creepage {
             prescribe_creepage(&mut m, &ramp, speed, radius)?;
+        } else if case.hold_forward_speed {
+            hold_forward_speed(&mut m, speed)?;
         }
         m.solver.rebase_energy();
+    } else if case.hold_forward_speed {
+        hold_forward_speed(&mut m, case.speed_m_per_s())?;
     }
     let sample_interval_s = 1.0 / case.output.sample_rate_hz;
     let run_opts = RunOptions {
@@ -1048,6 +1159,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         longest_contact_loss_s: m.contact.longest_loss_s,
         largest_node_shear_over_bound: m.contact.pair.largest_shear_over_bound,
         deepest_penetration_m: m.contact.pair.deepest_penetration_m,
+        contact_point: m.contact.contact_point,
     };
     let path = opts.out_dir.join("run.json");
     let text =

@@ -7,6 +7,7 @@
 //! - [`welch`]: Welch's averaged-periodogram PSD, matching `scipy.signal.welch`;
 //! - [`wavelet`]: Morlet continuous wavelet transform and its cone of influence;
 //! - [`peaks`]: local maxima, prominences, selection and sub-bin refinement;
+//! - [`resolution`]: Welch parameters for a requested bin spacing (zero padding);
 //! - [`resample`]: band-limited (windowed-sinc) resampling to another rate;
 //! - [`wav`]: 16-bit PCM WAV writing/reading;
 //! - [`series`]: uniformly sampled time series read from CSV files.
@@ -14,6 +15,7 @@
 pub mod detrend;
 pub mod peaks;
 pub mod resample;
+pub mod resolution;
 pub mod series;
 pub mod wav;
 pub mod wavelet;

@@ -1,18 +1,20 @@
 //! Welch's power spectral density estimate, with the semantics of `scipy.signal.welch`
-//! (`average='mean'`, `return_onesided=True`, `nfft = nperseg`).
+//! (`average='mean'`, `return_onesided=True`, and `nfft >= nperseg`: each windowed segment
+//! zero-padded to `nfft` samples, which interpolates the spectrum onto finer bins without
+//! narrowing its main lobe).
 //!
 //! Math (Welch 1967; SciPy `csd`/`ShortTimeFFT`):
 //! - segments of `nperseg` samples start at `m * hop`, `hop = nperseg - noverlap`, for
 //!   `m = 0 .. (n - noverlap) / hop` (integer division): a last partial segment is dropped;
 //! - each segment is detrended, then multiplied by the window `w`;
-//! - `P_m[k] = |X_m[k]|^2 * scale`, `X_m = DFT(segment)`, k = 0..=nperseg/2, with
+//! - `P_m[k] = |X_m[k]|^2 * scale`, `X_m = DFT(segment padded to nfft)`, k = 0..=nfft/2, with
 //!   `scale = 1 / (fs * sum w^2)` for `density` (unit^2/Hz) and `1 / (sum w)^2` for
 //!   `spectrum` (unit^2);
-//! - one-sided: every bin except DC, and except Nyquist when `nperseg` is even, is doubled
+//! - one-sided: every bin except DC, and except Nyquist when `nfft` is even, is doubled
 //!   (it carries the power of its negative-frequency twin);
-//! - the estimate is the mean of `P_m` over segments; frequencies are `k * fs / nperseg`.
+//! - the estimate is the mean of `P_m` over segments; frequencies are `k * fs / nfft`.
 //!
-//! Parseval: with `density` scaling, `sum(P) * df` (df = fs/nperseg) equals the mean over
+//! Parseval: with `density` scaling, `sum(P) * df` (df = fs/nfft) equals the mean over
 //! segments of `sum((w * x_detrended)^2) / sum(w^2)`, i.e. the window-weighted variance.
 
 use std::sync::Arc;
@@ -38,7 +40,7 @@ pub enum PsdScaling {
 /// Parameters of a Welch estimate.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WelchParams {
-    /// Samples per segment (SciPy `nperseg`); also the FFT length.
+    /// Samples per segment (SciPy `nperseg`); also the FFT length unless `nfft` is set.
     pub nperseg: usize,
     /// Samples shared by consecutive segments (SciPy `noverlap`), `0 <= noverlap < nperseg`.
     pub noverlap: usize,
@@ -48,6 +50,9 @@ pub struct WelchParams {
     pub detrend: Detrend,
     /// Density (unit^2/Hz) or spectrum (unit^2).
     pub scaling: PsdScaling,
+    /// FFT length (SciPy `nfft`), `>= nperseg`: segments are zero-padded to it. None: nperseg.
+    #[serde(default)]
+    pub nfft: Option<usize>,
 }
 
 impl WelchParams {
@@ -60,7 +65,13 @@ impl WelchParams {
             window: Window::Hann,
             detrend: Detrend::Constant,
             scaling: PsdScaling::Density,
+            nfft: None,
         }
+    }
+
+    /// The FFT length: `nfft`, or `nperseg` when not set.
+    pub fn fft_length(&self) -> usize {
+        self.nfft.unwrap_or(self.nperseg)
     }
 
     /// Parameters with the overlap given as a fraction of the segment, `0 <= overlap < 1`;
@@ -99,6 +110,19 @@ impl WelchParams {
                 ),
             ));
         }
+        if let Some(nfft) = self.nfft {
+            if nfft < self.nperseg || nfft > (1 << 26) {
+                return Err(Error::input(
+                    "welch",
+                    "nfft",
+                    format!(
+                        "FFT length {nfft} is outside the allowed range {}..=67108864 (at least \
+                         the segment length nperseg)",
+                        self.nperseg
+                    ),
+                ));
+            }
+        }
         if self.noverlap >= self.nperseg {
             return Err(Error::input(
                 "welch",
@@ -122,11 +146,12 @@ impl WelchParams {
 /// A one-sided Welch spectrum.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Psd {
-    /// Bin frequencies `k * fs / nperseg`, k = 0..=nperseg/2, in Hz.
+    /// Bin frequencies `k * fs / nfft`, k = 0..=nfft/2, in Hz.
     pub frequency_hz: Vec<f64>,
     /// PSD in signal unit^2/Hz (with [`PsdScaling::Spectrum`]: power per bin, unit^2).
     pub psd_per_hz: Vec<f64>,
-    /// Bin spacing `fs / nperseg`, Hz.
+    /// Bin spacing `fs / nfft`, Hz (finer than the main lobe `~ 2 fs / nperseg` of a Hann
+    /// window when the segments are zero-padded).
     pub frequency_resolution_hz: f64,
     /// Number of segments averaged.
     pub segment_count: usize,
@@ -156,11 +181,12 @@ pub fn welch(signal: &[f64], sample_rate_hz: f64, params: &WelchParams) -> Resul
     }
 
     let nperseg = params.nperseg;
+    let nfft = params.fft_length();
     let hop = nperseg - params.noverlap;
     let segment_count = params.segment_count(signal.len());
-    let bin_count = nperseg / 2 + 1;
+    let bin_count = nfft / 2 + 1;
     let window = params.window.samples(nperseg);
-    let fft: Arc<dyn Fft<f64>> = FftPlanner::new().plan_fft_forward(nperseg);
+    let fft: Arc<dyn Fft<f64>> = FftPlanner::new().plan_fft_forward(nfft);
 
     // Sum of |X_m[k]|^2 over segments, in fixed chunks summed in order (reproducible).
     let chunk_count = segment_count.div_ceil(SEGMENTS_PER_CHUNK);
@@ -169,7 +195,7 @@ pub fn welch(signal: &[f64], sample_rate_hz: f64, params: &WelchParams) -> Resul
         .map(|chunk| {
             let mut sums = vec![0.0; bin_count];
             let mut segment = vec![0.0; nperseg];
-            let mut spectrum = vec![Complex::new(0.0, 0.0); nperseg];
+            let mut spectrum = vec![Complex::new(0.0, 0.0); nfft];
             let mut scratch = vec![Complex::new(0.0, 0.0); fft.get_inplace_scratch_len()];
             let first = chunk * SEGMENTS_PER_CHUNK;
             let last = (first + SEGMENTS_PER_CHUNK).min(segment_count);
@@ -179,6 +205,9 @@ pub fn welch(signal: &[f64], sample_rate_hz: f64, params: &WelchParams) -> Resul
                 params.detrend.apply(&mut segment);
                 for ((z, x), w) in spectrum.iter_mut().zip(&segment).zip(&window) {
                     *z = Complex::new(x * w, 0.0);
+                }
+                for z in &mut spectrum[nperseg..] {
+                    *z = Complex::new(0.0, 0.0);
                 }
                 fft.process_with_scratch(&mut spectrum, &mut scratch);
                 for (sum, z) in sums.iter_mut().zip(&spectrum[..bin_count]) {
@@ -199,8 +228,8 @@ pub fn welch(signal: &[f64], sample_rate_hz: f64, params: &WelchParams) -> Resul
         PsdScaling::Density => 1.0 / (sample_rate_hz * window.iter().map(|w| w * w).sum::<f64>()),
         PsdScaling::Spectrum => 1.0 / window.iter().sum::<f64>().powi(2),
     };
-    // One-sided doubling: all bins but DC and, for even nperseg, Nyquist (which has no twin).
-    let doubled_end = if nperseg.is_multiple_of(2) {
+    // One-sided doubling: all bins but DC and, for even nfft, Nyquist (which has no twin).
+    let doubled_end = if nfft.is_multiple_of(2) {
         bin_count - 1
     } else {
         bin_count
@@ -210,7 +239,7 @@ pub fn welch(signal: &[f64], sample_rate_hz: f64, params: &WelchParams) -> Resul
         *value *= scale * one_sided / segment_count as f64;
     }
 
-    let frequency_resolution_hz = sample_rate_hz / nperseg as f64;
+    let frequency_resolution_hz = sample_rate_hz / nfft as f64;
     let frequency_hz = (0..bin_count)
         .map(|k| k as f64 * frequency_resolution_hz)
         .collect();

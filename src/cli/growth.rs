@@ -1,0 +1,82 @@
+//! `squeal growth RUN_DIR`: wavelet-ridge amplitude and growth rate of wheel vibration in the
+//! bands of chosen wheel modes.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use squeal::growth::{band_growth, bands_for_modes, read_column, ridges_csv, to_markdown};
+use squeal::identify::{parse_required, ModeRef};
+use squeal::{Error, Result};
+
+/// Arguments of `squeal growth`.
+#[derive(Args, Debug)]
+pub struct GrowthArgs {
+    /// Run directory with histories.csv and modes.json.
+    pub run_dir: PathBuf,
+    /// Column of histories.csv (default: the n >= 1 part of the rim's lateral vibration).
+    #[arg(long, default_value = "rim_point_minus_mean_lateral_velocity_m_per_s")]
+    pub signal: String,
+    /// Axial mode whose band to follow, "nodal circles,nodal diameters" (repeatable).
+    #[arg(long = "mode", default_values_t = ["0,3".to_string(), "0,4".to_string()])]
+    pub modes: Vec<String>,
+    /// Half width of each band, relative to the mode's frequency.
+    #[arg(long, default_value_t = 0.05)]
+    pub half_width: f64,
+    /// Start (ms); default: the lateral-motion onset from run.json, else the first sample.
+    #[arg(long, allow_negative_numbers = true)]
+    pub from_ms: Option<f64>,
+    /// Window over which each growth rate is fitted (ms).
+    #[arg(long, default_value_t = 4.0, allow_negative_numbers = true)]
+    pub window_ms: f64,
+    /// Write growth.md, growth.json and ridges.csv here (default: the run directory).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// Run `squeal growth`.
+pub fn run(args: GrowthArgs) -> Result<()> {
+    if !(args.half_width > 0.0 && args.half_width < 0.5) {
+        return Err(Error::input(
+            "command line",
+            "--half-width",
+            format!("must lie in (0, 0.5) (got {})", args.half_width),
+        ));
+    }
+    let labels: Vec<(u32, u32)> = args
+        .modes
+        .iter()
+        .map(|m| parse_required(m))
+        .collect::<Result<_>>()?;
+    let modes_path = args.run_dir.join("modes.json");
+    if !modes_path.exists() {
+        return Err(Error::input(
+            modes_path.display().to_string(),
+            "modes",
+            "no modal results: run `squeal axisym ... --out RUN_DIR` first",
+        ));
+    }
+    let modes: Vec<ModeRef> = squeal::input::read_json(&modes_path)?;
+    let bands = bands_for_modes(&modes, &labels, args.half_width)?;
+    let series = read_column(&args.run_dir, &args.signal)?;
+    let from_s = match args.from_ms {
+        Some(t) => t * 1e-3,
+        None => squeal::analysis::lateral_onset_s(&args.run_dir).unwrap_or(series.start_time_s),
+    };
+    let g = band_growth(&series, &bands, from_s, args.window_ms * 1e-3)?;
+    let md = to_markdown(&g);
+    println!("{md}");
+    let out = args.out.unwrap_or_else(|| args.run_dir.clone());
+    std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
+    let write = |name: &str, text: String| -> Result<()> {
+        let p = out.join(name);
+        std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
+    };
+    write("growth.md", md)?;
+    write(
+        "growth.json",
+        serde_json::to_string_pretty(&g).map_err(|e| Error::Numerical(e.to_string()))?,
+    )?;
+    write("ridges.csv", ridges_csv(&g))?;
+    println!("wrote {}/growth.{{md,json}} and ridges.csv", out.display());
+    Ok(())
+}
