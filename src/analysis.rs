@@ -247,12 +247,18 @@ pub fn analyse_run(run_dir: &Path, options: &AnalysisOptions) -> Result<RunAnaly
         ));
     }
     let modes: Vec<ModeRef> = read_json(&modes_path)?;
-    let ratios: Option<Vec<f64>> = rim_mean.as_ref().map(|(_, rim_psd)| {
-        peaks
-            .iter()
-            .map(|p| rim_ratio(&psd, rim_psd, p.refined_frequency_hz))
-            .collect()
-    });
+    // The rim point less the rim mean has no rim-mean part by construction: ratio 0, so that
+    // its peaks get only modes with nodal diameters the mean cancels.
+    let ratios: Option<Vec<f64>> = if column.starts_with("rim_point_minus_mean_") {
+        Some(vec![0.0; peaks.len()])
+    } else {
+        rim_mean.as_ref().map(|(_, rim_psd)| {
+            peaks
+                .iter()
+                .map(|p| rim_ratio(&psd, rim_psd, p.refined_frequency_hz))
+                .collect()
+        })
+    };
     let identifications = identify(
         &peaks,
         ratios.as_deref(),

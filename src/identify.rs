@@ -148,8 +148,14 @@ impl Direction {
         }
     }
     /// Parse "lateral" / "vertical" / "longitudinal" (also as a prefix of a column name).
+    /// The rim-averaged columns (`rim_mean_...`) and the rim point less the rim mean
+    /// (`rim_point_minus_mean_...`, the n >= 1 motion) carry their direction after the prefix.
     pub fn from_signal_name(name: &str) -> Option<Direction> {
-        let n = name.to_ascii_lowercase();
+        let lower = name.to_ascii_lowercase();
+        let n = lower
+            .strip_prefix("rim_point_minus_mean_")
+            .or_else(|| lower.strip_prefix("rim_mean_"))
+            .unwrap_or(&lower);
         if n.starts_with("lateral") {
             Some(Direction::Lateral)
         } else if n.starts_with("vertical") {

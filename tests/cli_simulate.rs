@@ -143,3 +143,61 @@ fn missing_case_file_names_it_and_exits_2() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A lateral history that jumps at its onset, or ends after the run, and a forward guide
+/// switched off under a prescribed creepage: exit 2 naming the case file and the field with
+/// its allowed range, and nothing written.
+#[test]
+fn bad_lateral_motion_and_forward_guide_exit_2_and_write_nothing() {
+    let dir = temp_dir("bad-lateral");
+    let edits: Vec<(serde_json::Value, serde_json::Value, &str, &str)> = vec![
+        (
+            serde_json::json!("lateral_motion"),
+            serde_json::json!({"shape": "table", "times_s": [0.001, 0.0015],
+                "displacements_m": [0.0002, 0.0003]}),
+            "lateral_motion.displacements_m[0]",
+            "must be 0 m",
+        ),
+        (
+            serde_json::json!("lateral_motion"),
+            serde_json::json!({"shape": "ramp", "start_s": 0.5, "rise_time_s": 0.001,
+                "velocity_m_per_s": 0.6, "travel_m": 0.003, "settle_time_s": 0.002}),
+            "lateral_motion.start_s",
+            "[0, end_time_s",
+        ),
+        (
+            serde_json::json!("hold_forward_speed"),
+            serde_json::json!(false),
+            "hold_forward_speed",
+            "prescribed creepage",
+        ),
+    ];
+    for (k, (field, value, name, range)) in edits.into_iter().enumerate() {
+        let path = long_tiny_case(&dir, 0.002);
+        let mut case: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        case[field.as_str().unwrap()] = value;
+        if name == "hold_forward_speed" {
+            case["torque"]["max_n_m"] = serde_json::json!(0.0);
+            case["creepage"] = serde_json::json!({"start": 0.0, "end": 0.001, "start_s": 0.0,
+                "end_s": 0.001});
+        }
+        std::fs::write(&path, serde_json::to_string_pretty(&case).unwrap()).unwrap();
+        let run = dir.join(format!("run{k}"));
+        let out = squeal()
+            .args(["simulate", "--quiet", "--scenario"])
+            .arg(&path)
+            .arg("--out")
+            .arg(&run)
+            .output()
+            .expect("run squeal");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{name}: {err}");
+        assert!(
+            err.contains("case.json") && err.contains(name) && err.contains(range),
+            "{name}: {err}"
+        );
+        assert!(!run.exists(), "{name}: {} was written", run.display());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -4,8 +4,9 @@
 //! For each instant the paper lists for the run's case: normal force Fn, lateral and
 //! longitudinal creep forces Fy and Fx (magnitudes: the paper gives no signs), the creep force
 //! over the traction bound `sqrt(Fx^2 + Fy^2) / (mu Fn)`, and the creepages that Kalker's
-//! theory returns when given the forces. Ours come from `contact_forces.csv` at the sample
-//! nearest the instant and, for the creepages, from the patch snapshot nearest it
+//! theory returns when given the forces. Ours come from `contact_forces.csv`, interpolated
+//! linearly between the two samples around the instant (the paper gives its instants to
+//! 10 us, our samples are 20 us apart) and, for the creepages, from the patch snapshot nearest it
 //! (`patches/patch_*.json`, within [`SNAPSHOT_MATCH_S`]) given to the exact half-space solver on
 //! the S1002/54E1 profiles at the wheel's lateral position then (as CONTACT does, with the
 //! snapshot's spin), see [`crate::kalker::snapshot::compare_snapshot_on_profiles`]. The time of
@@ -117,7 +118,7 @@ pub const PAPER_TABLE3: [PaperInstant; 6] = [
 pub struct OurInstant {
     /// The paper's row.
     pub paper: PaperInstant,
-    /// Sample time used (ms).
+    /// The instant (ms).
     pub time_ms: f64,
     /// Normal force (kN).
     pub normal_kn: f64,
@@ -209,6 +210,7 @@ pub fn operating_point(run_dir: &Path) -> Result<Option<OperatingPoint>> {
             .min_by(|&a, &b| (t[a] - time_s).abs().total_cmp(&(t[b] - time_s).abs()))
             .unwrap_or(0)
     };
+    let at = |column: &[f64], time_s: f64| interpolate(t, column, time_s);
     let snapshots = snapshot_times(run_dir);
     let mut instants = Vec::new();
     for paper in PAPER_TABLE3.iter().filter(|p| p.case == case) {
@@ -216,11 +218,11 @@ pub fn operating_point(run_dir: &Path) -> Result<Option<OperatingPoint>> {
         let k = nearest(time_s);
         let mut row = OurInstant {
             paper: *paper,
-            time_ms: t[k] * 1e3,
-            normal_kn: normal[k] * 1e-3,
-            lateral_kn: fy[k].abs() * 1e-3,
-            longitudinal_kn: fx[k].abs() * 1e-3,
-            creep_over_bound: ratio(k),
+            time_ms: paper.time_ms,
+            normal_kn: at(normal, time_s) * 1e-3,
+            lateral_kn: at(fy, time_s).abs() * 1e-3,
+            longitudinal_kn: at(fx, time_s).abs() * 1e-3,
+            creep_over_bound: at(creep, time_s) / at(bound, time_s).max(f64::MIN_POSITIVE),
             eta_percent: None,
             xi_percent: None,
             creepage_note: String::new(),
@@ -263,6 +265,19 @@ pub fn operating_point(run_dir: &Path) -> Result<Option<OperatingPoint>> {
         first_saturation_ms,
         saturation_searched_from_ms: onset_s * 1e3,
     }))
+}
+
+/// `column` at `time_s`, linear between the samples around it (end values outside).
+pub fn interpolate(t: &[f64], column: &[f64], time_s: f64) -> f64 {
+    let k = t.partition_point(|&x| x <= time_s);
+    if k == 0 {
+        return column[0];
+    }
+    if k >= t.len() {
+        return column[t.len() - 1];
+    }
+    let w = (time_s - t[k - 1]) / (t[k] - t[k - 1]);
+    column[k - 1] + w * (column[k] - column[k - 1])
 }
 
 /// Patch snapshots of a run: (time s, JSON path), from their own `time_s`.

@@ -328,6 +328,54 @@ mod tests {
         }
     }
 
+    /// The velocity the engine applies, `(d(t + dt) - d(t)) / dt` at its step, changes from
+    /// one step to the next by at most `a_max dt` (plus rounding): no jump anywhere, at the
+    /// onset and the stop included. For the ramp `a_max = 1.5 V / t_rise` (the smoothstep's
+    /// largest slope); for the table, from the Hermite curve's own derivative.
+    #[test]
+    fn sampled_velocity_has_no_jump() {
+        let dt = 6.889e-7;
+        let check = |m: &LateralMotion, a_max: f64| {
+            let c = m.curve().unwrap();
+            let v = |t: f64| (c.value(t + dt) - c.value(t)) / dt;
+            let (mut t, mut last) = (m.onset_s() - 1e-4, 0.0);
+            let mut worst: f64 = 0.0;
+            while t < m.end_s() + 1e-4 {
+                let now = v(t);
+                worst = worst.max((now - last).abs());
+                last = now;
+                t += dt;
+            }
+            assert!(
+                worst <= 1.01 * a_max * dt + 1e-9,
+                "{worst} vs {}",
+                a_max * dt
+            );
+            assert_eq!(v(m.onset_s() - 2.0 * dt), 0.0);
+            assert!(v(m.end_s() + dt).abs() < 1e-12);
+        };
+        let r = ramp();
+        check(
+            &LateralMotion::Ramp(r),
+            1.5 * r.velocity_m_per_s / r.rise_time_s,
+        );
+        let table = LateralMotion::Table(LateralTable {
+            times_s: vec![0.016, 0.017, 0.019, 0.022],
+            displacements_m: vec![0.0, 0.0004, 0.0020, 0.0030],
+        });
+        table.validate("case", "lateral_motion", 0.04).unwrap();
+        // A bound on |d''|: the largest over a fine sampling of the curve's derivative.
+        let c = table.curve().unwrap();
+        let h = 1e-7;
+        let a_max = (0..60_000)
+            .map(|k| {
+                let t = 0.016 + k as f64 * 1e-7;
+                ((c.derivative(t + h) - c.derivative(t)) / h).abs()
+            })
+            .fold(0.0, f64::max);
+        check(&table, a_max);
+    }
+
     #[test]
     fn ramp_travels_its_distance_and_stops() {
         let r = ramp();
