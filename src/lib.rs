@@ -23,4 +23,5 @@ pub mod report;
 pub mod rolling;
 pub mod scenario;
 pub mod signal;
+pub mod table;
 pub use error::{Error, Result};

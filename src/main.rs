@@ -38,7 +38,7 @@ enum Command {
     Axisym(cli::axisym::AxisymArgs),
     /// Wheel natural frequencies and mode shapes (3D FE), classified; hammer-test comparison.
     Modes(cli::modes::ModesArgs),
-    /// Benchmarks that print the README's performance figures.
+    /// Benchmarks that print the figures of docs/performance.md.
     Bench(cli::bench::BenchArgs),
 }
 

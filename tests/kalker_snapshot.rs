@@ -4,11 +4,10 @@
 //! lateral creepage (PAPER.md: lateral creepage rotates the patch solution).
 use squeal::kalker::hertz::HertzContact;
 use squeal::kalker::rolling::{Method, RollingSolver};
-use squeal::kalker::snapshot::{
-    compare_snapshot, write_comparison_charts, PatchPoint, PatchSnapshot,
-};
+use squeal::kalker::snapshot::{compare_snapshot, PatchPoint, PatchSnapshot};
 use squeal::kalker::tangential::{Creepages, ElementState};
 use squeal::kalker::Material;
+use squeal::report::kalker_charts::write_comparison_charts;
 
 const CURVATURES: (f64, f64) = (1.0 / 0.92, 1.0 / 0.6); // flat 0.46 m wheel on an R300 crown
 

@@ -6,7 +6,8 @@
 use std::collections::BTreeMap;
 
 use faer::{Mat, Side};
-use squeal::fem::hex8::{element_matrices, element_matrices_of_kind, ElasticMaterial};
+use squeal::fem::hex8::{element_matrices, ElasticMaterial};
+use squeal::fem::hex8_kind::element_matrices_of_kind;
 use squeal::fem::{assemble, Constraints, Hex8Kind, MassKind, Materials};
 use squeal::mesh::cuboid;
 use squeal::modal::{solve, ModalOptions};

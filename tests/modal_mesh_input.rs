@@ -317,12 +317,12 @@ fn readers_agree_and_convert_gmsh_order() {
     vtk.push_str("CELLS 2 14\n10 0 1 2 3 4 5 6 7 8 9\n2 0 1\nCELL_TYPES 2\n24\n3\nCELL_DATA 2\nSCALARS material int 1\nLOOKUP_TABLE default\n7 7\n");
     let fv = tmp("readers", "one.vtk");
     write(&fv, &vtk);
-    let m = volume::read(&fv).unwrap();
+    let m = squeal::mesh::volume_io::read(&fv).unwrap();
     assert_eq!(m.nodes.len(), 10);
     assert_eq!(m.elements.len(), 1);
     assert_eq!(m.material, vec![7]);
     // straight tet volume: the degree-5 rule is exact (round-off)
-    assert!((m.volume() - v).abs() < 1e-13);
+    assert!((squeal::fem::measure::volume(&m) - v).abs() < 1e-13);
     // VTU ascii
     let pts: String = p
         .iter()
@@ -342,7 +342,7 @@ fn readers_agree_and_convert_gmsh_order() {
     );
     let fu = tmp("readers", "one.vtu");
     write(&fu, &vtu);
-    let mu = volume::read(&fu).unwrap();
+    let mu = squeal::mesh::volume_io::read(&fu).unwrap();
     assert_eq!(mu.elements, m.elements);
     assert_eq!(mu.nodes, m.nodes);
     // Gmsh 4.1: node tags 1..10; element lists Gmsh order, i.e. nodes 8 and 9 swapped
@@ -357,7 +357,7 @@ fn readers_agree_and_convert_gmsh_order() {
     msh.push_str("$EndNodes\n$Elements\n1 1 1 1\n3 5 11 1\n1 1 2 3 4 5 6 7 8 10 9\n$EndElements\n");
     let fg = tmp("readers", "one.msh");
     write(&fg, &msh);
-    let mg = volume::read(&fg).unwrap();
+    let mg = squeal::mesh::volume_io::read(&fg).unwrap();
     assert_eq!(
         mg.elements, m.elements,
         "Gmsh 2-3/1-3 edge nodes must be swapped"
@@ -383,7 +383,7 @@ fn readers_agree_and_convert_gmsh_order() {
 fn read_err(name: &str, text: &str) -> String {
     let f = tmp("errors", name);
     write(&f, text);
-    let e = volume::read(&f).expect_err("must fail");
+    let e = squeal::mesh::volume_io::read(&f).expect_err("must fail");
     assert_eq!(e.exit_code(), 2, "{e}");
     e.to_string()
 }

@@ -3,8 +3,8 @@
 //! invariants every case must keep. The demo cases run the same code on finer meshes.
 use std::path::Path;
 
-use squeal::report::run_report::Table;
 use squeal::rolling::{load_case, simulate, SimulateOptions, StopFlag};
+use squeal::table::Table;
 
 fn column<'a>(t: &'a Table, name: &str) -> &'a [f64] {
     let k = t
@@ -555,7 +555,7 @@ fn without_lateral_motion_the_creep_force_stays_longitudinal() {
 /// Carter's and Kalker's theories say; at xi = 0 it is small. The tiny model's tread band
 /// (10 mm) resolves the 14 mm patch with one or two nodes along the rolling direction, so the
 /// shape of the curve is coarse: the test checks growth and saturation, not the slope (the
-/// README reports the curve against Kalker on the demo model).
+/// curve against Kalker on the demo model is in docs/validation.md).
 #[test]
 fn prescribed_creepage_traces_a_saturating_creep_curve() {
     let mut loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();

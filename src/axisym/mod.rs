@@ -47,9 +47,9 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::geometry::wheel::{axle_radius_mm, WheelSpec};
-use crate::identify::{ModeFamily, ModeRef};
 use crate::mesh::material as part;
 use crate::mesh::wheel::mesh_section;
+use crate::modal::mode::{ModeFamily, ModeRef};
 use crate::{Error, Result};
 pub use element::Material;
 pub use mesh::Q9Mesh;

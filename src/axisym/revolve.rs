@@ -122,7 +122,7 @@ mod tests {
             let q9 = Q9Mesh::rectangle(r0, 0.4, -0.02, 0.02, nr, 1);
             let mesh = revolve_hex27(&q9, 16, &[("inner", &q9.nodes_at_r(r0, -1.0, 1.0, 1e-9))]);
             let want = PI * (0.4f64.powi(2) - r0 * r0) * 0.04;
-            let got = mesh.volume();
+            let got = crate::fem::measure::volume(&mesh);
             // The quadratic arc through three points of a circle over pi/8 encloses the sector
             // area to ~1e-5 relative.
             assert!((got - want).abs() < 1e-4 * want, "{got} vs {want}");

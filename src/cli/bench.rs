@@ -1,4 +1,4 @@
-//! `squeal bench`: the performance figures the README quotes.
+//! `squeal bench`: the performance figures docs/performance.md quotes.
 
 use clap::{Args, Subcommand};
 use squeal::Result;

@@ -333,9 +333,7 @@ fn finish(
 }
 
 fn run_compare(args: CompareArgs) -> Result<()> {
-    use squeal::kalker::snapshot::{
-        compare_snapshot, compare_snapshot_on_profiles, write_comparison_charts, PatchSnapshot,
-    };
+    use squeal::kalker::snapshot::{compare_snapshot, compare_snapshot_on_profiles, PatchSnapshot};
     let snapshot: PatchSnapshot = squeal::input::read_json(&args.snapshot)?;
     let source = args.snapshot.display().to_string();
     if !(snapshot.normal_force_n.is_finite() && snapshot.normal_force_n > 0.0) {
@@ -410,7 +408,7 @@ fn run_compare(args: CompareArgs) -> Result<()> {
         .map(|p| p.pressure_pa)
         .fold(0.0, f64::max);
     std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
-    write_comparison_charts(&snapshot, &cmp, &args.out)?;
+    squeal::report::kalker_charts::write_comparison_charts(&snapshot, &cmp, &args.out)?;
     let summary = json!({
         "time_s": snapshot.time_s,
         "xi": cmp.kalker.creepages.xi,

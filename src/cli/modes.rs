@@ -324,7 +324,7 @@ fn run_mesh(args: &ModesArgs, clamp: ClampChoice) -> Result<()> {
         )?,
     };
     let started = std::time::Instant::now();
-    let mut mesh = volume::read(path).map_err(|e| match e {
+    let mut mesh = squeal::mesh::volume_io::read(path).map_err(|e| match e {
         Error::Io { path, source } => Error::input(
             path,
             "--mesh",
@@ -375,11 +375,11 @@ fn run_mesh(args: &ModesArgs, clamp: ClampChoice) -> Result<()> {
         count(12),
         count(24),
         count(29),
-        mesh.volume(),
+        squeal::fem::measure::volume(&mesh),
     );
     // Classified about the y-parallel axis (ARCHITECTURE.md: the wheel axis is y) through the
     // volume centroid; for a body that is not a wheel the labels are only descriptive.
-    let centre = mesh.centroid();
+    let centre = squeal::fem::measure::centroid(&mesh);
     solve_volume(
         args,
         &mesh,
@@ -432,7 +432,13 @@ fn solve_volume(
             .zip(&mesh.material)
             .map(|(e, &m)| (e.nodes(), m)),
     );
-    let records = classify_modes_points(&mesh.nodes, &mesh.nodal_weights(), &axle, centre, &shapes);
+    let records = classify_modes_points(
+        &mesh.nodes,
+        &squeal::fem::measure::nodal_weights(mesh),
+        &axle,
+        centre,
+        &shapes,
+    );
     write_outputs(args, &sol, &shapes, &records, |fields| {
         vtu::write_volume(mesh, &args.out.join("modes.vtu"), fields)
     })
@@ -576,7 +582,7 @@ fn write_outputs(
         std::fs::write(&p, cmp.to_markdown()).map_err(|e| Error::io(&p, e))?;
         let p = args.out.join("comparison.csv");
         std::fs::write(&p, cmp.to_csv()).map_err(|e| Error::io(&p, e))?;
-        squeal::hammer::write_modal_chart(
+        squeal::report::modal_chart::write_modal_chart(
             &refs,
             Some(&measured),
             Some(&args.out.join("modal_chart.png")),

@@ -163,17 +163,8 @@ pub const HOURGLASS_BASE: [[f64; 8]; 4] = [
     [-1.0, 1.0, -1.0, 1.0, 1.0, -1.0, 1.0, -1.0],
 ];
 
-/// Natural coordinates of the nodes (VTK order).
-pub const NODE_NATURAL: [[f64; 3]; 8] = [
-    [-1.0, -1.0, -1.0],
-    [1.0, -1.0, -1.0],
-    [1.0, 1.0, -1.0],
-    [-1.0, 1.0, -1.0],
-    [-1.0, -1.0, 1.0],
-    [1.0, -1.0, 1.0],
-    [1.0, 1.0, 1.0],
-    [-1.0, 1.0, 1.0],
-];
+/// Natural coordinates of the nodes (VTK order), defined with the mesh's node ordering.
+pub use crate::mesh::hex::NODE_NATURAL;
 
 /// Trilinear shape functions at natural point `p`.
 pub fn shape_functions(p: [f64; 3]) -> [f64; 8] {

@@ -17,7 +17,8 @@ use std::collections::{BTreeMap, HashMap};
 use faer::sparse::{SparseColMat, Triplet};
 use rayon::prelude::*;
 
-use super::hex8::{element_matrices_of_kind, ElasticMaterial, Hex8Kind};
+use super::hex8::ElasticMaterial;
+use super::hex8_kind::{element_matrices_of_kind, Hex8Kind};
 use super::{hex27, tet10};
 use crate::mesh::volume::{VolumeElement, VolumeMesh};
 use crate::mesh::{Mesh, TiedInterface};

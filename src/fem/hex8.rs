@@ -12,7 +12,7 @@
 // Index loops mirror the matrix formulas (B, D, J indices); iterator forms would hide them.
 #![allow(clippy::needless_range_loop)]
 
-use crate::explicit::element::NODE_NATURAL;
+use crate::mesh::hex::NODE_NATURAL;
 use crate::mesh::P3;
 use serde::{Deserialize, Serialize};
 
@@ -52,30 +52,6 @@ impl ElasticMaterial {
             d[i + 3][i + 3] = mu;
         }
         d
-    }
-}
-
-/// Which hexahedron stiffness the modal assembly uses (the mass is the same for both).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Hex8Kind {
-    /// The trilinear (conforming) element of this module: exact for linear fields, but it locks
-    /// in bending (parasitic shear) when a bent plate or beam is only one or two elements thick.
-    Standard,
-    /// Wilson–Taylor incompatible modes ("QM6"), [`super::hex8_incompatible`]: three statically
-    /// condensed bubble modes per displacement component represent the quadratic bending field.
-    Incompatible,
-}
-
-/// Stiffness and mass of one element of the given kind; `None` as for [`element_matrices`].
-pub fn element_matrices_of_kind(
-    kind: Hex8Kind,
-    x: &[P3; 8],
-    mat: &ElasticMaterial,
-    lumped: bool,
-) -> Option<ElementMatrices> {
-    match kind {
-        Hex8Kind::Standard => element_matrices(x, mat, lumped),
-        Hex8Kind::Incompatible => super::hex8_incompatible::element_matrices(x, mat, lumped),
     }
 }
 

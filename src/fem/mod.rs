@@ -6,8 +6,11 @@ pub mod assembly;
 pub mod hex27;
 pub mod hex8;
 pub mod hex8_incompatible;
+pub mod hex8_kind;
 pub mod jacobian;
+pub mod measure;
 pub mod tet10;
 
 pub use assembly::{assemble, assemble_volume, Assembled, Constraints, MassKind, Materials};
-pub use hex8::{ElasticMaterial, ElementMatrices, Hex8Kind};
+pub use hex8::{ElasticMaterial, ElementMatrices};
+pub use hex8_kind::Hex8Kind;

@@ -34,9 +34,8 @@ pub const DOFS: usize = 30;
 /// The corner pairs of the mid-edge nodes 4..9 (VTK order).
 pub const EDGES: [[usize; 2]; 6] = [[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]];
 
-/// `vtk[k] = gmsh[GMSH_TO_VTK[k]]`: Gmsh's node 8 is on edge 2-3 and node 9 on edge 1-3 (Gmsh
-/// reference manual, "Node ordering"), VTK has them the other way round (1-3, then 2-3).
-pub const GMSH_TO_VTK: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8];
+/// The Gmsh-to-VTK node permutation, defined with the mesh readers.
+pub use crate::mesh::volume::GMSH_TO_VTK_TET10 as GMSH_TO_VTK;
 
 /// Element stiffness and mass (30x30, row-major).
 #[derive(Clone, Debug)]

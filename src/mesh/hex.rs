@@ -56,6 +56,19 @@ fn cross(a: P3, b: P3) -> P3 {
 fn dot(a: P3, b: P3) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
+
+/// Natural coordinates of the eight nodes of a hexahedron in the mesh's (VTK) node order.
+pub const NODE_NATURAL: [[f64; 3]; 8] = [
+    [-1.0, -1.0, -1.0],
+    [1.0, -1.0, -1.0],
+    [1.0, 1.0, -1.0],
+    [-1.0, 1.0, -1.0],
+    [-1.0, -1.0, 1.0],
+    [1.0, -1.0, 1.0],
+    [1.0, 1.0, 1.0],
+    [-1.0, 1.0, 1.0],
+];
+
 /// Euclidean norm.
 pub fn norm3(a: P3) -> f64 {
     dot(a, a).sqrt()

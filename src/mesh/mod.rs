@@ -11,6 +11,8 @@ pub mod section;
 pub mod tie;
 pub mod track;
 pub mod volume;
+pub mod volume_io;
+pub mod vtk_cells;
 pub mod vtk_legacy;
 pub mod vtu;
 pub mod wheel;

@@ -4,17 +4,19 @@
 //! (`x<-1.09, z>=0.2`) for clamping.
 //!
 //! Node order is VTK's for all kinds (hexahedron type 12, quadratic tetrahedron type 24,
-//! triquadratic hexahedron type 29; the Gmsh reader takes hex8 and tet10 only); Gmsh tet10 connectivity is permuted on reading (see [`crate::fem::tet10::GMSH_TO_VTK`]). Lower
+//! triquadratic hexahedron type 29; the Gmsh reader takes hex8 and tet10 only); Gmsh tet10 connectivity is permuted on reading (see [`GMSH_TO_VTK_TET10`]). Lower
 //! dimensional cells (vertices, lines, triangles, quads and their quadratic forms) are skipped,
 //! as are nodes that no volume element uses (a free node would make K singular).
 
 use std::collections::BTreeMap;
-use std::path::Path;
 
-use super::vtu::VtuContents;
 use super::{Mesh, P3};
-use crate::fem::{hex27, tet10};
 use crate::{Error, Result};
+
+/// `vtk[k] = gmsh[GMSH_TO_VTK_TET10[k]]` for the 10-node tetrahedron: Gmsh's node 8 is on
+/// edge 2-3 and node 9 on edge 1-3 (Gmsh reference manual, "Node ordering"), VTK has them the
+/// other way round (1-3, then 2-3).
+pub const GMSH_TO_VTK_TET10: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8];
 
 /// One volume element (VTK node order).
 #[derive(Clone, Debug, PartialEq)]
@@ -75,49 +77,6 @@ impl From<&Mesh> for VolumeMesh {
 }
 
 impl VolumeMesh {
-    /// Element volume (m³).
-    pub fn element_volume(&self, e: usize) -> f64 {
-        match &self.elements[e] {
-            VolumeElement::Hex8(c) => super::hex::volume(&c.map(|n| self.nodes[n])),
-            VolumeElement::Tet10(c) => tet10::volume(&c.map(|n| self.nodes[n])),
-            VolumeElement::Hex27(c) => hex27::volume(&c.map(|n| self.nodes[n])),
-        }
-    }
-
-    /// Total volume (m³).
-    pub fn volume(&self) -> f64 {
-        (0..self.elements.len())
-            .map(|e| self.element_volume(e))
-            .sum()
-    }
-
-    /// Nodal weights for mode classification: each element's volume shared equally by its
-    /// nodes.
-    pub fn nodal_weights(&self) -> Vec<f64> {
-        let mut w = vec![0.0; self.nodes.len()];
-        for (e, el) in self.elements.iter().enumerate() {
-            let v = self.element_volume(e).abs() / el.nodes().len() as f64;
-            for &n in el.nodes() {
-                w[n] += v;
-            }
-        }
-        w
-    }
-
-    /// Volume centroid (m), from the nodal weights.
-    pub fn centroid(&self) -> P3 {
-        let w = self.nodal_weights();
-        let total: f64 = w.iter().sum::<f64>().max(1e-300);
-        [0, 1, 2].map(|d| {
-            self.nodes
-                .iter()
-                .zip(&w)
-                .map(|(p, w)| p[d] * w)
-                .sum::<f64>()
-                / total
-        })
-    }
-
     /// Axis-aligned bounding box (min, max).
     pub fn bounds(&self) -> (P3, P3) {
         let mut lo = [f64::INFINITY; 3];
@@ -211,134 +170,6 @@ impl VolumeMesh {
         }
         Ok(())
     }
-}
-
-/// Read a volume mesh: `.msh` (Gmsh 4.1 ASCII; material id = volume entity tag), `.vtk` (legacy
-/// ASCII unstructured grid) or `.vtu` (VTK XML, ASCII or inline binary arrays). VTK material ids
-/// come from the cell array `material`, `gmsh:physical`, `CellEntityIds` or `MaterialIds` (the
-/// first present), else 1.
-pub fn read(path: &Path) -> Result<VolumeMesh> {
-    let name = path.display().to_string();
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase();
-    let mut mesh = match ext.as_str() {
-        "msh" => {
-            let c = super::gmsh::read(path)?;
-            let mut m = VolumeMesh {
-                nodes: c.nodes,
-                ..Default::default()
-            };
-            for (conn, entity) in c.hexahedra {
-                m.elements.push(VolumeElement::Hex8(conn));
-                m.material.push(entity.max(0) as u32);
-            }
-            for (conn, entity) in c.tetrahedra10 {
-                let vtk = tet10::GMSH_TO_VTK.map(|k| conn[k]);
-                m.elements.push(VolumeElement::Tet10(vtk));
-                m.material.push(entity.max(0) as u32);
-            }
-            m
-        }
-        "vtk" => from_vtk_contents(&name, super::vtk_legacy::read(path)?)?,
-        "vtu" => from_vtk_contents(&name, super::vtu::read(path)?)?,
-        _ => {
-            return Err(Error::input(
-                &name,
-                "--mesh",
-                format!("unknown mesh file extension `.{ext}`: expected .msh (Gmsh 4.1 ASCII), .vtk (legacy VTK ASCII) or .vtu (VTK XML)"),
-            ))
-        }
-    };
-    mesh.validate_and_compact(&name)?;
-    Ok(mesh)
-}
-
-/// VTK cell types that are not volume elements and are skipped (vertex, poly-vertex, line,
-/// poly-line, triangle, triangle strip, polygon, pixel, quad, and their quadratic forms).
-const SKIPPED_VTK_TYPES: [u8; 13] = [1, 2, 3, 4, 5, 6, 7, 8, 9, 21, 22, 23, 28];
-
-/// Convert VTK cells (types 12, 24 and 29) into a volume mesh; other volume cell types are errors.
-pub fn from_vtk_contents(source: &str, c: VtuContents) -> Result<VolumeMesh> {
-    let ids = ["material", "gmsh:physical", "CellEntityIds", "MaterialIds"]
-        .iter()
-        .find_map(|k| c.cell_data.get(*k).map(|v| (*k, v)));
-    if let Some((key, v)) = ids {
-        if v.len() != c.cells.len() {
-            return Err(Error::input(
-                source,
-                format!("cell data `{key}`"),
-                format!("{} values for {} cells", v.len(), c.cells.len()),
-            ));
-        }
-    }
-    let mut m = VolumeMesh {
-        nodes: c.points,
-        ..Default::default()
-    };
-    for (i, (cell, &ty)) in c.cells.iter().zip(&c.cell_types).enumerate() {
-        let material = match ids {
-            Some((key, v)) => {
-                let x = v[i];
-                if !(x.is_finite() && x >= 0.0 && x.fract() == 0.0 && x <= u32::MAX as f64) {
-                    return Err(Error::input(
-                        source,
-                        format!("cell data `{key}`"),
-                        format!("cell {i}: material id {x} is not a non-negative integer"),
-                    ));
-                }
-                x as u32
-            }
-            None => 1,
-        };
-        let wrong_count = |n: usize| {
-            Error::input(
-                source,
-                "cells",
-                format!(
-                    "cell {i} of type {ty} has {} nodes, expected {n}",
-                    cell.len()
-                ),
-            )
-        };
-        match ty {
-            12 => {
-                let conn: [usize; 8] = cell.as_slice().try_into().map_err(|_| wrong_count(8))?;
-                m.elements.push(VolumeElement::Hex8(conn));
-                m.material.push(material);
-            }
-            24 => {
-                let conn: [usize; 10] =
-                    cell.as_slice().try_into().map_err(|_| wrong_count(10))?;
-                m.elements.push(VolumeElement::Tet10(conn));
-                m.material.push(material);
-            }
-            29 => {
-                let conn: [usize; 27] =
-                    cell.as_slice().try_into().map_err(|_| wrong_count(27))?;
-                m.elements.push(VolumeElement::Hex27(conn));
-                m.material.push(material);
-            }
-            10 => {
-                return Err(Error::input(
-                    source,
-                    "cells",
-                    format!("cell {i} is a linear tetrahedron (VTK type 10): not supported (too stiff for modal analysis); use quadratic tetrahedra (type 24, e.g. Gmsh -order 2) or hexahedra (type 12)"),
-                ))
-            }
-            t if SKIPPED_VTK_TYPES.contains(&t) => {}
-            t => {
-                return Err(Error::input(
-                    source,
-                    "cells",
-                    format!("cell {i} has VTK cell type {t}, which is not supported: volume cells must be hexahedra (12), quadratic tetrahedra (24) or triquadratic hexahedra (29)"),
-                ))
-            }
-        }
-    }
-    Ok(m)
 }
 
 /// The coordinate a box condition tests.

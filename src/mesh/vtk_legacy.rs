@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use super::vtu::VtuContents;
+use super::vtk_cells::VtuContents;
 use crate::{Error, Result};
 
 struct Tokens<'a> {

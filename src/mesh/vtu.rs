@@ -236,21 +236,7 @@ fn write_grid(
     w.flush()
 }
 
-/// What [`read`] returns: points, cells (any VTK cell type, as node lists), cell types and the
-/// named arrays (as f64) found in the file.
-#[derive(Debug, Default)]
-pub struct VtuContents {
-    /// Points.
-    pub points: Vec<[f64; 3]>,
-    /// Cell connectivity.
-    pub cells: Vec<Vec<usize>>,
-    /// VTK cell type per cell.
-    pub cell_types: Vec<u8>,
-    /// Point arrays by name (flattened components).
-    pub point_data: std::collections::BTreeMap<String, Vec<f64>>,
-    /// Cell arrays by name.
-    pub cell_data: std::collections::BTreeMap<String, Vec<f64>>,
-}
+pub use super::vtk_cells::VtuContents;
 
 fn bad(path: &str, what: impl Into<String>) -> Error {
     Error::input(path, "(vtu)", what.into())

@@ -23,8 +23,8 @@
 
 use serde::Serialize;
 
-use crate::identify::{ModeFamily, ModeRef};
 use crate::mesh::Mesh;
+use crate::modal::mode::{ModeFamily, ModeRef};
 
 /// A classified mode.
 #[derive(Clone, Debug, Serialize)]

@@ -32,6 +32,7 @@
 
 pub mod classify;
 pub mod lanczos;
+pub mod mode;
 pub mod ordering;
 
 pub use lanczos::{solve, ModalOptions, ModalSolution, Mode};

@@ -2,6 +2,8 @@
 //! markdown/HTML report.
 
 pub mod chart;
+pub mod kalker_charts;
+pub mod modal_chart;
 pub mod patch_maps;
 pub mod run_report;
 pub mod table3;

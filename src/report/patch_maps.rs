@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use super::chart::{write, LineChart, Series, Stroke};
-use super::run_report::Table;
+use crate::table::Table;
 use crate::{Error, Result};
 
 /// One node of a patch snapshot, in patch coordinates (mm, relative to the pressure centre).

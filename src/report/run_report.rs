@@ -19,76 +19,8 @@ use super::chart::{write, write_heatmap, Heatmap, LineChart, Series, Stroke};
 use crate::analysis::{analyse_run, AnalysisOptions, RunAnalysis};
 use crate::identify::{to_markdown, ModeRef};
 use crate::signal::{morlet_cwt, wav::write_wav, Scales};
+use crate::table::Table;
 use crate::{Error, Result};
-
-/// Columns of a CSV file with a `time_s` column.
-#[derive(Clone, Debug)]
-pub struct Table {
-    /// Column names (including `time_s`).
-    pub headers: Vec<String>,
-    /// Columns.
-    pub columns: Vec<Vec<f64>>,
-}
-
-impl Table {
-    /// Read a numeric CSV file with a `time_s` column.
-    pub fn read(path: &Path) -> Result<Table> {
-        let table = Table::read_numeric(path)?;
-        if !table.headers.iter().any(|h| h == "time_s") {
-            return Err(Error::input(
-                path.display().to_string(),
-                "time_s",
-                format!("no `time_s` column; columns: {}", table.headers.join(", ")),
-            ));
-        }
-        Ok(table)
-    }
-
-    /// Read a numeric CSV file (any columns).
-    pub fn read_numeric(path: &Path) -> Result<Table> {
-        let name = path.display().to_string();
-        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-        let mut reader = csv::ReaderBuilder::new()
-            .trim(csv::Trim::All)
-            .from_reader(file);
-        let headers: Vec<String> = reader
-            .headers()
-            .map_err(|e| Error::input(&name, "header", e.to_string()))?
-            .iter()
-            .map(str::to_string)
-            .collect();
-        let mut columns = vec![Vec::new(); headers.len()];
-        for (line, rec) in reader.records().enumerate() {
-            let rec =
-                rec.map_err(|e| Error::input(&name, format!("line {}", line + 2), e.to_string()))?;
-            for (k, field) in rec.iter().enumerate().take(headers.len()) {
-                let v = field.parse::<f64>().map_err(|_| {
-                    Error::input(
-                        &name,
-                        format!("line {}, column `{}`", line + 2, headers[k]),
-                        format!("`{field}` is not a number"),
-                    )
-                })?;
-                columns[k].push(v);
-            }
-        }
-        Ok(Table { headers, columns })
-    }
-    /// Column by name.
-    pub fn column(&self, name: &str) -> Option<&[f64]> {
-        self.headers
-            .iter()
-            .position(|h| h == name)
-            .map(|k| self.columns[k].as_slice())
-    }
-    /// First column whose name starts with `prefix`.
-    pub fn column_starting(&self, prefix: &str) -> Option<(&str, &[f64])> {
-        self.headers
-            .iter()
-            .position(|h| h.starts_with(prefix))
-            .map(|k| (self.headers[k].as_str(), self.columns[k].as_slice()))
-    }
-}
 
 /// What a report contains (also written as report.json).
 #[derive(Clone, Debug, Serialize)]
@@ -525,7 +457,7 @@ pub fn build_report(
         } else {
             None
         };
-        crate::hammer::write_modal_chart(
+        super::modal_chart::write_modal_chart(
             modes,
             measured.as_deref(),
             Some(&out_dir.join("modes.png")),

@@ -17,7 +17,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::run_report::Table;
+use crate::table::Table;
 use crate::Result;
 
 /// Friction coefficient of cases 1-4 (PAPER.md).

@@ -187,7 +187,7 @@ pub struct RollingCase {
     /// ballast vertical): there a half sleeper, held laterally only at its bottom face, tilts
     /// about the track axis as a rigid body under the off-centre wheel load, and the tilt moves
     /// the rail seat sideways (0.2 mm under the passing wheel on the demo track). With the cut
-    /// held, the tilt has to bend the sleeper (README, "What `paper` case 3 showed").
+    /// held, the tilt has to bend the sleeper (docs/run-log.md, "What `paper` case 3 showed").
     #[serde(default)]
     pub track_centre_symmetry: bool,
     /// Static preload.

@@ -1220,7 +1220,7 @@ fn centre_probes(hub: &[usize]) -> Vec<HistoryProbe> {
 /// Mean traction coefficient over the last quarter of the run and the mean normal force over
 /// the first 5 ms, from `contact_forces.csv`.
 fn force_statistics(path: &Path, end_time_s: f64) -> (Option<f64>, Option<f64>) {
-    let Ok(table) = crate::report::run_report::Table::read(path) else {
+    let Ok(table) = crate::table::Table::read(path) else {
         return (None, None);
     };
     let col = |name: &str| {

@@ -1,0 +1,78 @@
+//! The paper's modal chart: wheel modes' frequency against nodal diameters, one line per family
+//! and nodal-circle count, FE dotted, measured (hammer test) solid.
+
+use std::path::Path;
+
+use super::chart::{write, LineChart, Series, Stroke};
+use crate::hammer::MeasuredMode;
+use crate::modal::mode::{ModeFamily, ModeRef};
+use crate::Result;
+
+/// The standard picture of a modal comparison: frequency against nodal diameters, one colour
+/// per family and nodal-circle count, FE dotted, measured solid with markers.
+pub fn write_modal_chart(
+    fe: &[ModeRef],
+    measured: Option<&[MeasuredMode]>,
+    png: Option<&Path>,
+    svg: Option<&Path>,
+) -> Result<()> {
+    let mut series = Vec::new();
+    let families = [
+        ModeFamily::Axial,
+        ModeFamily::Radial,
+        ModeFamily::Circumferential,
+    ];
+    for (k, fam) in families.into_iter().enumerate() {
+        for m in 0..=2u32 {
+            let color = 3 * k + m as usize;
+            let mut pts: Vec<(f64, f64)> = fe
+                .iter()
+                .filter(|f| f.family == fam && f.nodal_circles == m)
+                .map(|f| (f.nodal_diameters as f64, f.frequency_hz))
+                .collect();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+            pts.dedup_by(|a, b| a.0 == b.0);
+            if !pts.is_empty() {
+                series.push(Series {
+                    label: format!("{fam:?} m={m}, FE"),
+                    x: pts.iter().map(|p| p.0).collect(),
+                    y: pts.iter().map(|p| p.1).collect(),
+                    stroke: Stroke::DottedWithPoints,
+                    color,
+                });
+            }
+            if let Some(meas) = measured {
+                let mut pts: Vec<(f64, f64)> = meas
+                    .iter()
+                    .filter(|f| f.family == fam && f.nodal_circles == m)
+                    .map(|f| (f.nodal_diameters as f64, f.frequency_hz))
+                    .collect();
+                pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+                if !pts.is_empty() {
+                    series.push(Series {
+                        label: format!("{fam:?} m={m}, measured"),
+                        x: pts.iter().map(|p| p.0).collect(),
+                        y: pts.iter().map(|p| p.1).collect(),
+                        stroke: Stroke::SolidWithPoints,
+                        color,
+                    });
+                }
+            }
+        }
+    }
+    let max_nd = fe
+        .iter()
+        .map(|f| f.nodal_diameters)
+        .chain(measured.unwrap_or(&[]).iter().map(|m| m.nodal_diameters))
+        .max()
+        .unwrap_or(1) as f64;
+    let chart = LineChart {
+        title: "Wheel modes: frequency against nodal diameters (m = nodal circles)".into(),
+        x_range: Some((-0.5, max_nd + 0.5)),
+        x_label: "nodal diameters".into(),
+        y_label: "frequency (Hz)".into(),
+        series,
+        ..Default::default()
+    };
+    write(&chart, png, svg)
+}
