@@ -213,6 +213,7 @@ pub fn build_report(
     for d in ["lateral", "vertical", "longitudinal"] {
         let mut hist = Vec::new();
         let mut psds = Vec::new();
+        let mut psd_note = String::new();
         let mut unit = String::new();
         for (k, r) in runs.iter().enumerate() {
             let Some((col, v)) = r.histories.column_starting(&format!("{d}_")) else {
@@ -237,6 +238,22 @@ pub fn build_report(
                 k,
             ));
             if let Some(a) = r.analyses.iter().find(|a| a.column == col) {
+                // The chart says what spectrum it shows (window, padding, bins): the first
+                // run's; every run's is listed under the chart.
+                if psd_note.is_empty() {
+                    let p = &a.psd.params;
+                    psd_note = format!(
+                        "{:.1}-{:.1} ms, {}{:.1} Hz bins",
+                        a.window.from_s * 1e3,
+                        a.window.to_s * 1e3,
+                        if p.fft_length() > p.nperseg {
+                            "zero-padded, "
+                        } else {
+                            ""
+                        },
+                        a.psd.frequency_resolution_hz
+                    );
+                }
                 psds.push(Series::line(
                     &r.name,
                     a.psd.frequency_hz.clone(),
@@ -285,7 +302,11 @@ pub fn build_report(
         )?;
         write(
             &LineChart {
-                title: format!("PSD of the wheel {d} vibration (dots: dominant peaks)"),
+                title: if psd_note.is_empty() {
+                    format!("PSD of the wheel {d} vibration")
+                } else {
+                    format!("{d} PSD, {psd_note}; dots: peaks")
+                },
                 x_label: "frequency (Hz)".into(),
                 y_label: format!("PSD (({unit})^2/Hz)"),
                 series: psds,

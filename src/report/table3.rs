@@ -318,7 +318,7 @@ pub fn to_markdown(points: &[(String, OperatingPoint)]) -> String {
     let mut md = String::from(
         "The paper's Table 3 (Yang & Li 2019: contact forces of its explicit FE model at the \
          instants of its patch figures, and the creepages CONTACT returns for them) beside ours: \
-         forces from `contact_forces.csv` at the nearest sample, creepages from Kalker's exact \
+         forces from `contact_forces.csv` interpolated at the paper's instants, creepages from Kalker's exact \
          half-space solution (the S1002/54E1 profiles at the wheel's position then) given the \
          patch snapshot's forces and spin. Magnitudes (the paper gives no signs); creep/bound = \
          sqrt(Fx^2 + Fy^2) / (mu Fn).\n\n\
