@@ -1,5 +1,5 @@
 //! `cargo bench --bench kalker`: timing of the exact steady-rolling solver (60 x 60 elements) and
-//! FASTSIM (100 x 100 points) on DATA.md's reference contact (R 0.46 m on a R300 crown, 100 kN).
+//! FASTSIM (100 x 100 points) on the reference contact of docs/references.md, section 5 (R 0.46 m on a R300 crown, 100 kN).
 //! Plain `std::time::Instant` timing (harness = false): the median of several runs is printed.
 
 use squeal::kalker::{Creepages, HertzContact, Material, Method, RollingSolver};

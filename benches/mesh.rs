@@ -1,7 +1,7 @@
 //! Mesh generation throughput: `cargo bench --bench mesh`.
 //! Builds the `paper` scenario (1 mm tread arc and rail zone) and a ~1-million-element variant
 //! of it (wider fine arc and longer fine rail zone), prints elements per second.
-//! Target (issue "foundation"): a 1-million-element wheel + track mesh in under 10 s on the
+//! Target: a 1-million-element wheel + track mesh in under 10 s on the
 //! 2-core reference machine.
 use squeal::scenario::LoadedScenario;
 

@@ -1,5 +1,5 @@
 //! Signal-analysis timings: `CARGO_BUILD_JOBS=1 cargo bench --bench signal`.
-//! Targets (issue 6): Welch PSD of 10^6 samples < 50 ms; 100-scale CWT of 10^5 samples < 1 s.
+//! Targets: Welch PSD of 10^6 samples < 50 ms; 100-scale CWT of 10^5 samples < 1 s.
 
 use std::f64::consts::PI;
 use std::time::{Duration, Instant};

@@ -1,4 +1,4 @@
-//! Hammer-test reference data and its comparison with FE modes (issue "modal analysis", item 5).
+//! Hammer-test reference data and its comparison with FE modes.
 //!
 //! File format (`data/hammer/*.csv`), one measured mode per row, header required:
 //! ```text

@@ -1,5 +1,5 @@
 //! Mode-to-peak identification: which wheel mode explains each dominant peak of a vibration
-//! spectrum (issue "squeal analysis", item 4).
+//! spectrum.
 //!
 //! A peak is explained by the mode, of a family the signal direction can see, whose frequency is
 //! closest to the peak and within the tolerance `max(relative x f_mode, absolute_hz)`:
@@ -8,7 +8,7 @@
 //!
 //! Default tolerance: 5 % or 25 Hz, whichever is larger. Why: the explicit (one-point hex) mesh
 //! and the modal model of the same wheel differ by a few per cent at the squeal frequencies
-//! (../shared/ARCHITECTURE.md, element technology), and a 40 ms demo history resolves
+//! (docs/architecture.md, "Element technology"), and a 40 ms demo history resolves
 //! frequencies only to ~25 Hz. A peak with no mode inside the tolerance is reported as
 //! unexplained, never forced onto a mode.
 //!

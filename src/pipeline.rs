@@ -1,4 +1,4 @@
-//! The one-command pipeline (issue "analysis and reports", item 7): wheel modes, a rolling case,
+//! The one-command pipeline: wheel modes, a rolling case,
 //! its analysis and the report, into one folder.
 //!
 //! Layout of `out_dir`: `index.html` / `index.md` (the report over the run), `runs/<case>/`

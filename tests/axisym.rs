@@ -1,5 +1,5 @@
 //! Axisymmetric (Fourier-harmonic) modal solver against independent references
-//! (../shared/DATA.md section 4): thin annular and solid free plates (Kirchhoff), thin rings
+//! (docs/references.md, section 4): thin annular and solid free plates (Kirchhoff), thin rings
 //! (in-plane and out-of-plane flexure), residuals, Sturm counts, rigid modes, refinement.
 
 use std::f64::consts::TAU;
@@ -14,7 +14,7 @@ const STEEL: Material = Material {
     density_kg_per_m3: 7850.0,
 };
 
-/// Kirchhoff plate frequency (Hz) for a given lambda^2 (DATA.md section 4):
+/// Kirchhoff plate frequency (Hz) for a given lambda^2 (docs/references.md, section 4):
 /// omega = lambda^2 / a^2 sqrt(D / (rho h)), D = E h^3 / (12 (1 - nu^2)).
 fn plate_hz(lambda2: f64, a: f64, h: f64) -> f64 {
     let m = STEEL;
@@ -43,7 +43,7 @@ fn rel(a: f64, b: f64) -> f64 {
 }
 
 /// Free-free annular plate, b/a = 0.3, a = 0.25 m, h = 5 mm (a/h = 50): the two lowest
-/// (n = 0..5) and the lowest ones' nodal circles. Tolerance 2 % (issue 3): the solid model
+/// (n = 0..5) and the lowest ones' nodal circles. Tolerance 2 %: the solid model
 /// lands below Kirchhoff by the shear / rotary-inertia correction, of order
 /// (h/a)^2 lambda^2 / 10 ~ 0.1-2 % over these modes.
 #[test]
@@ -52,7 +52,7 @@ fn annular_plate_matches_kirchhoff() {
     let model = AxisymModel::rectangle(b, a, h, 40, 1, STEEL);
     let fmax = plate_hz(100.0, a, h);
     let res = axisym::solve(&model, &opts(0..=5, fmax)).unwrap();
-    // DATA.md section 4, free-free annular plate, b/a = 0.3.
+    // docs/references.md, section 4, free-free annular plate, b/a = 0.3.
     let table: [[f64; 2]; 6] = [
         [8.3535, 50.353],
         [18.292, 58.784],
@@ -92,7 +92,7 @@ fn annular_plate_matches_kirchhoff() {
 }
 
 /// Free solid circular plate, a = 0.25 m, h = 5 mm: (2,0), (0,1), (3,0), (1,1) within 2 %
-/// of Kirchhoff (DATA.md), with the labels (n, m) the classifier returns. Exercises the axis
+/// of Kirchhoff (docs/references.md, section 4), with the labels (n, m) the classifier returns. Exercises the axis
 /// conditions at r = 0 for n = 0, 1 and n >= 2.
 #[test]
 fn solid_plate_matches_kirchhoff_and_labels() {
@@ -140,7 +140,7 @@ fn solid_plate_matches_kirchhoff_and_labels() {
 }
 
 /// Thin ring, R = 1 m, square section b = 50 mm: in-plane (radial family) and out-of-plane
-/// (axial family) flexure n = 2, 3, 4 within 2 % of the thin-ring formulas (DATA.md, Blevins):
+/// (axial family) flexure n = 2, 3, 4 within 2 % of the thin-ring formulas (Blevins; docs/references.md, section 4):
 /// in-plane omega = sqrt(EI/(rho A R^4)) n (n^2-1)/sqrt(n^2+1), out-of-plane
 /// omega = sqrt(EI/(rho A R^4)) n (n^2-1)/sqrt(n^2 + EI/(GJ)), with the square's torsion
 /// constant J = 0.1406 b^4 (Roark, J = 2.25 (b/2)^4). Curvature, shear and rotary inertia of
@@ -198,7 +198,7 @@ fn refinement_decreases_frequencies_monotonically() {
 /// The default wheel: solves n = 0..12 below 10 kHz, every residual below 1e-8, the Sturm
 /// count equals the modes returned, rigid modes (free wheel + half axle) two at n = 0 and two
 /// at n = 1; the zero-nodal-circle axial modes (0,2) < (0,3) < (0,4) lie in the ranges
-/// Thompson (2009) gives for ~900 mm wheels (DATA.md section 7: a few hundred Hz, ~1 kHz,
+/// Thompson (2009) gives for ~900 mm wheels (docs/references.md, section 7: a few hundred Hz, ~1 kHz,
 /// ~1.8-2 kHz; checked loosely, these are ranges, not data). Hub-bore clamping removes the
 /// rigid modes.
 #[test]

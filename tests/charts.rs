@@ -76,6 +76,15 @@ fn log_axis_skips_non_positive_values() {
         log_y: true,
         ..Default::default()
     };
-    write(&chart, Some(&dir.join("l.png")), None).expect("log chart with zeros and negatives");
+    write(&chart, Some(&dir.join("l.png")), Some(&dir.join("l.svg")))
+        .expect("log chart with zeros and negatives");
+    // The positive points are drawn (the SVG holds a polyline between them) and the axis is
+    // logarithmic (its tick labels span the decades of the positive values).
+    let svg = std::fs::read_to_string(dir.join("l.svg")).expect("svg");
+    assert!(svg.contains("<polyline"), "no line drawn");
+    assert!(
+        svg.contains("1e-6") || svg.contains("1e-5"),
+        "no decade ticks: {svg:.400}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -64,7 +64,7 @@ fn bar_wave_speed_is_sqrt_e_over_rho() {
 }
 
 /// With the lateral motion of every node fixed, the block is in uniaxial strain and the front
-/// travels at the dilatational speed sqrt((lambda + 2 mu) / rho) (DATA.md section 6).
+/// travels at the dilatational speed sqrt((lambda + 2 mu) / rho) (docs/references.md, section 6).
 #[test]
 fn constrained_block_carries_the_dilatational_speed() {
     let length = 0.4;

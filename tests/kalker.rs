@@ -1,4 +1,4 @@
-//! Integration tests of `squeal::kalker` against independent references (DATA.md section 5:
+//! Integration tests of `squeal::kalker` against independent references (docs/references.md, section 5:
 //! Hertz check values, Kalker's Table E.3, Carter's 2D theory).
 
 use squeal::kalker::halfspace::Grid;
@@ -13,14 +13,14 @@ fn relative_error(value: f64, reference: f64) -> f64 {
     (value / reference - 1.0).abs()
 }
 
-/// DATA.md's check case: R = 0.46 m flat tread on a R300 crown, steel.
+/// The check case of docs/references.md, section 5: R = 0.46 m flat tread on a R300 crown, steel.
 fn reference_contact(normal_force_n: f64) -> HertzContact {
     HertzContact::wheel_on_rail(0.46, 0.3, normal_force_n, Material::STEEL).unwrap()
 }
 
 #[test]
 fn hertz_matches_data_md() {
-    // DATA.md gives 3 significant digits (7.16 mm: +-0.07 %); 0.5 % as the brief requires.
+    // The reference gives 3 significant digits (7.16 mm: +-0.07 %); 0.5 % as the brief requires.
     for (force, a_mm, b_mm, p0_mpa) in [(100e3, 7.16, 5.39, 1238.0), (50e3, 5.68, 4.28, 982.0)] {
         let hertz = reference_contact(force);
         let errors = [
@@ -35,7 +35,7 @@ fn hertz_matches_data_md() {
             hertz.peak_pressure_pa * 1e-6
         );
         assert!(errors.iter().all(|&e| e < 0.005), "{errors:?}");
-        // DATA.md's closed form c = sqrt(ab) = [3 F rho E(e) / (4 pi E* sqrt(g))]^(1/3).
+        // the closed form (docs/references.md, section 5) c = sqrt(ab) = [3 F rho E(e) / (4 pi E* sqrt(g))]^(1/3).
         let g = hertz.semi_axis_b_m / hertz.semi_axis_a_m;
         let (_, elliptic_e) =
             squeal::kalker::elliptic::complete_elliptic_integrals((1.0 - g * g).sqrt()).unwrap();

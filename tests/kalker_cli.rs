@@ -24,7 +24,7 @@ fn hertz_prints_the_patch() {
     ]);
     assert!(output.status.success());
     let value: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
-    // DATA.md: 7.16 x 5.39 mm, 1238 MPa.
+    // docs/references.md, section 5: 7.16 x 5.39 mm, 1238 MPa.
     assert!((value["semi_axis_a_m"].as_f64().unwrap() / 7.16e-3 - 1.0).abs() < 0.005);
     assert!((value["semi_axis_b_m"].as_f64().unwrap() / 5.39e-3 - 1.0).abs() < 0.005);
     assert!((value["peak_pressure_pa"].as_f64().unwrap() / 1238e6 - 1.0).abs() < 0.005);

@@ -54,7 +54,7 @@ fn centred_wheelset_gives_a_paper_sized_patch() {
         material,
     )
     .expect("hertz");
-    // PAPER.md: semi-axes of several mm (order 6 x 5 mm), peak pressure around 1 GPa; a
+    // Yang & Li 2019: semi-axes of several mm (order 6 x 5 mm), peak pressure around 1 GPa; a
     // sanity range, not a target: 2-12 mm and 0.6-2.5 GPa.
     for s in [h.semi_axis_a_m, h.semi_axis_b_m] {
         assert!((0.002..0.012).contains(&s), "semi-axis {s}");

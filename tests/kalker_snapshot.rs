@@ -1,7 +1,7 @@
 //! FE-snapshot comparison with Kalker: a snapshot made from Kalker's own creepage-prescribed
 //! solution must come back with the same creepages and the same adhesion-zone orientation
 //! (a round trip through the force-prescribed mode), and the orientation must grow with the
-//! lateral creepage (PAPER.md: lateral creepage rotates the patch solution).
+//! lateral creepage (Yang & Li 2019: lateral creepage rotates the patch solution).
 use squeal::kalker::hertz::HertzContact;
 use squeal::kalker::rolling::{Method, RollingSolver};
 use squeal::kalker::snapshot::{compare_snapshot, PatchPoint, PatchSnapshot};

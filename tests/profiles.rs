@@ -1,8 +1,8 @@
-//! Profiles against the standards' published dimensions (../shared/DATA.md sections 1-2).
+//! Profiles against the standards' published dimensions (docs/references.md, sections 1-2).
 use squeal::geometry::{curve2d::polygon_properties, rail54e1, s1002};
 
 /// Value and slope continuity at all 7 breakpoints of S1002. The published coefficients are
-/// rounded to ~10 significant digits, which leaves jumps of order 1e-5 mm; DATA.md quotes ~1e-4 (measured worst: 1.2e-4 mm at S = -35, section C|D).
+/// rounded to ~10 significant digits, which leaves jumps of order 1e-5 mm; docs/references.md quotes ~1e-4 (measured worst: 1.2e-4 mm at S = -35, section C|D).
 #[test]
 fn s1002_is_continuous_in_value_and_slope() {
     let h = 1e-6;

@@ -484,7 +484,7 @@ fn resumed_run_matches_the_uninterrupted_one() {
     let _ = std::fs::remove_dir_all(&base);
 }
 
-/// Issue 5: "the normal force equals the applied load within 1 % after preload". The preload of
+/// The normal force equals the applied load within 1 % after the preload. The preload of
 /// the tiny model is asked for the load within 0.2 % (its load criterion, beside the residual):
 /// it must get there within its step budget, record the error it reached, and the run's first
 /// sample must show the vertical contact force (the normal force's vertical part plus friction,
@@ -549,7 +549,7 @@ fn without_lateral_motion_the_creep_force_stays_longitudinal() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Issue 5, steady rolling with a prescribed longitudinal creepage: the axle is held at the
+/// Steady rolling with a prescribed longitudinal creepage: the axle is held at the
 /// rolling speed and spun at `V (1 + xi) / R` with xi ramped slowly from 0 to 1.5 %. The creep
 /// force follows the creepage up and saturates at the traction bound mu N (Coulomb), as
 /// Carter's and Kalker's theories say; at xi = 0 it is small. The tiny model's tread band
@@ -856,7 +856,7 @@ fn demo_cases_reach_the_papers_operating_point() {
     assert!(lateral_share >= 0.95, "case 4 lateral share");
 }
 
-/// Issue 5, static normal contact at 1 mm (`data/scenarios/static-hertz.json`, 251 k elements;
+/// Static normal contact at 1 mm (`data/scenarios/static-hertz.json`, 251 k elements;
 /// `cargo test --release --test rolling -- --ignored static`, about 25 minutes). Passed on
 /// 2026-11-23 with the wheel 28 mm to the field side (contact 2.6 mm from the rail centre, inside
 /// the crown's R300 arc) and the preload's load criterion: 45 400 preload steps, residual 8e-5,
@@ -944,7 +944,7 @@ fn static_patch_at_1mm_matches_hertz() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Carter-like adhesion zone on the FE patch (issue 5, "steady rolling with a prescribed
+/// Carter-like adhesion zone on the FE patch ("steady rolling with a prescribed
 /// longitudinal creepage"): `data/scenarios/carter-demo.json` holds the axle at the rolling speed
 /// and spins it at `V (1 + xi) / R` with xi rising 0.03 % per ms (the material crosses the patch
 /// in 0.6 ms: quasi-steady), and snapshots the patch every 3 ms. As the creep force ratio

@@ -52,7 +52,7 @@ fn revolved_volume_matches_pappus_and_converges() {
         errors[2] <= errors[0] && errors[2] < 1e-3,
         "no convergence: {errors:?}"
     );
-    // Plausible wheel mass: 350-420 kg for a 920 mm passenger wheel (../shared/DATA.md sec. 3).
+    // Plausible wheel mass: 350-420 kg for a 920 mm passenger wheel (docs/references.md, section 3).
     let mass = pappus_m3 * spec.material.density_kg_per_m3;
     assert!((340.0..=420.0).contains(&mass), "wheel mass {mass} kg");
 }
@@ -145,7 +145,7 @@ fn every_element_is_valid_over_many_parameter_sets() {
     assert_eq!(count, 12);
 }
 
-/// Issue "foundation", item 8: with the fine tread band, the smallest element of the wheel is
+/// With the fine tread band, the smallest element of the wheel is
 /// the band's, so the critical time step is that of the intended contact-zone size (within
 /// 20 %), even though the hub radius is ~0.2 of the tread radius.
 #[test]

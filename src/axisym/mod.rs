@@ -1,4 +1,4 @@
-//! Axisymmetric (Fourier-harmonic) modal solver for bodies of revolution (issue 3, item 3).
+//! Axisymmetric (Fourier-harmonic) modal solver for bodies of revolution.
 //!
 //! The cross-section is meshed once with nine-node quadrilaterals ([`mesh::Q9Mesh`]); for each
 //! harmonic n the displacements vary as cos(n theta) / sin(n theta) around the axis
@@ -57,7 +57,7 @@ pub use mesh::Q9Mesh;
 /// Frequencies below this (Hz) are rigid-body modes.
 pub const RIGID_LIMIT_HZ: f64 = 1.0;
 
-/// The largest accepted relative residual ||K x - w^2 M x|| / ||K x|| (issue 3, item 2).
+/// The largest accepted relative residual ||K x - w^2 M x|| / ||K x||.
 pub const MAX_RELATIVE_RESIDUAL: f64 = 1e-8;
 
 /// Share of the path's largest magnitude below which a sample has no sign (nodal circles).

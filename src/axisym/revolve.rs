@@ -9,7 +9,7 @@
 //! interpolation of `cos(n theta)` around the circumference, an error that falls as
 //! `(n / sectors)^4` (measured: `tests/modal_vs_axisym.rs`).
 //!
-//! Axes as the 3D wheel mesh (ARCHITECTURE.md; [`crate::mesh::wheel`]): the axis of revolution
+//! Axes as the 3D wheel mesh (docs/architecture.md; [`crate::mesh::wheel`]): the axis of revolution
 //! is y (z of the section = y), a section point (r, z) at angle theta goes to
 //! `(r sin theta, z, -r cos theta)`, so theta = 0 is the bottom of the wheel. Nodes on the axis
 //! (r = 0, the solid axle core) are one node for all angles; the elements touching the axis then

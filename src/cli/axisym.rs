@@ -1,4 +1,4 @@
-//! `squeal axisym`: wheel modes by the axisymmetric (Fourier-harmonic) solver (issue 3, item 3).
+//! `squeal axisym`: wheel modes by the axisymmetric (Fourier-harmonic) solver.
 //!
 //! `squeal axisym --wheel data/wheels/ns_intercity_920.json --harmonics 0..12 --fmax-hz 10000
 //! --out out/axisym` writes `modes.json` (ModeRef-compatible entries plus harmonic, residual,

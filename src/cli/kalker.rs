@@ -1,4 +1,4 @@
-//! `squeal kalker`: Hertz, creepage-prescribed and force-prescribed rolling contact (issue 7).
+//! `squeal kalker`: Hertz, creepage-prescribed and force-prescribed rolling contact.
 //!
 //! `squeal kalker --fn 120e3 --fx 40e3 --fy 10e3 --mu 0.45` (no subcommand) is the
 //! force-prescribed mode, same as `squeal kalker solve ...`.

@@ -377,7 +377,7 @@ fn run_mesh(args: &ModesArgs, clamp: ClampChoice) -> Result<()> {
         count(29),
         squeal::fem::measure::volume(&mesh),
     );
-    // Classified about the y-parallel axis (ARCHITECTURE.md: the wheel axis is y) through the
+    // Classified about the y-parallel axis (the wheel axis is y) through the
     // volume centroid; for a body that is not a wheel the labels are only descriptive.
     let centre = squeal::fem::measure::centroid(&mesh);
     solve_volume(

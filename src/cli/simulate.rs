@@ -6,7 +6,7 @@ use clap::Args;
 use squeal::rolling::{load_case, simulate, SimulateOptions, StopFlag};
 use squeal::{Error, Result};
 
-/// The five cases of the paper (PAPER.md "Simulation cases") at a resolution: the case files
+/// The five cases of the paper (Yang & Li 2019) at a resolution: the case files
 /// `data/scenarios/case1-<resolution>.json` .. `case5-<resolution>.json`.
 pub fn all_cases(resolution: Resolution) -> Vec<String> {
     let tag = match resolution {

@@ -1,4 +1,4 @@
-//! Node-to-segment penalty contact with Coulomb friction (PAPER.md, "Numerical method"), as an
+//! Node-to-segment penalty contact with Coulomb friction (Yang & Li 2019; docs/physics.md, "Explicit engine"), as an
 //! auxiliary force of the explicit engine.
 //!
 //! Each step, for each slave node (wheel tread):
@@ -158,7 +158,7 @@ pub struct ContactPair {
     pub penalty_scale: f64,
     /// Largest `|f_T| / (mu f_N)` over every active slave and every step since the last
     /// [`ContactPair::reset_monitors`]: the return mapping keeps it at 1 up to rounding
-    /// (PAPER.md: the tangential force never exceeds the traction bound); infinite if a slave
+    /// (Yang & Li 2019: the tangential force never exceeds the traction bound); infinite if a slave
     /// with a zero bound carried a tangential force.
     pub largest_shear_over_bound: f64,
     /// Deepest penetration over every slave and every step since the last reset (m).

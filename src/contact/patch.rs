@@ -1,4 +1,4 @@
-//! Contact-patch snapshots (issue "rolling contact", item 5): per slave node in contact its
+//! Contact-patch snapshots: per slave node in contact its
 //! position in the patch, pressure, shear stress vector, micro-slip velocity vector, and
 //! adhesion/slip by two criteria (shear at the traction bound; micro-slip above a threshold).
 //! Written as CSV (every field) and as the JSON the Kalker comparison reads

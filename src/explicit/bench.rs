@@ -1,4 +1,4 @@
-//! Element-update throughput of the engine (issue "explicit engine", performance): a block of
+//! Element-update throughput of the engine: a block of
 //! about N one-point elements (linear elastic, physical hourglass control), clamped at one end
 //! and set vibrating, stepped with a fixed number of rayon threads. The figure is the wall time
 //! of whole steps (element loop, node update, constraints) per element and step.

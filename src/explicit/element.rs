@@ -10,7 +10,7 @@
 //!   `W = V0 (lambda/2 tr(E)^2 + mu E:E)`.
 //!
 //! `E` vanishes for any rigid motion `x = R X + c`, however large the rotation, so a spinning
-//! wheel stays unstrained (issue "explicit engine", item 1).
+//! wheel stays unstrained.
 //!
 //! One-point integration uses the mean gradient `b_a = (1/V) integral(dN_a/dX dV)`
 //! (Flanagan & Belytschko), which passes the constant-stress patch test on distorted elements. The four hourglass modes

@@ -1,6 +1,6 @@
 //! The explicit element's own linearised stiffness (at the reference state) and lumped mass, so
 //! that the modal module can solve the very discretisation the engine integrates
-//! (../shared/ARCHITECTURE.md, element technology): an impulse response of the engine and the
+//! (docs/architecture.md, "Element technology"): an impulse response of the engine and the
 //! eigen-solution of these matrices must agree to a fraction of a percent.
 //!
 //! One-point element, `u = 0`: with the mean gradients `b_a`,

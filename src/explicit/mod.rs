@@ -1,4 +1,4 @@
-//! The explicit dynamics engine (issue "explicit engine"): central differences on 8-node
+//! The explicit dynamics engine: central differences on 8-node
 //! hexahedra with lumped mass, discrete parts (point masses, spring-dampers, rigid node sets,
 //! tied interfaces), loads and constraints, energy bookkeeping, and run output (streamed time
 //! histories, VTU snapshots, checkpoints).

@@ -1,4 +1,4 @@
-//! Static preload by dynamic relaxation (issue "explicit engine", item 5).
+//! Static preload by dynamic relaxation.
 //!
 //! The model is integrated with mass-proportional damping `alpha` set near critical for its
 //! lowest active mode, `alpha = 2 omega_1`. `omega_1` is estimated from the Rayleigh quotient of

@@ -1,4 +1,4 @@
-//! Central-difference time integration (PAPER.md, "Numerical method"):
+//! Central-difference time integration (Yang & Li 2019; docs/physics.md, "Explicit engine"):
 //!
 //! ```text
 //! a(t_n)       = M^-1 (f_ext(t_n) - f_int(u_n, v_{n-1/2}) + f_aux(t_n))
@@ -16,7 +16,7 @@
 //! thread count, and the results are bitwise identical for 1 and N threads. Node loops work on
 //! fixed chunks whose partial sums are added in chunk order.
 //!
-//! Energy bookkeeping (issue "explicit engine", item 7), at integer steps with the centred
+//! Energy bookkeeping, at integer steps with the centred
 //! velocity `vbar_n = (v_{n-1/2} + v_{n+1/2}) / 2`: kinetic energy `sum m |vbar|^2 / 2`; strain and
 //! hourglass energies as potentials of `u_n`; spring energy `k d^2 / 2`; work increments
 //! `dt f_n . vbar_n` for external forces, constraint reactions and dissipation. The balance error
@@ -38,6 +38,9 @@ use super::element::{
 use super::model::{Elements, Model, MotionKind};
 use crate::mesh::P3;
 use crate::{Error, Result};
+
+/// The fraction of the stable step the engine runs at (defined with the critical step).
+pub use crate::mesh::quality::COURANT_FACTOR;
 
 /// Elements per colouring block.
 const BLOCK_ELEMENTS: usize = 256;
@@ -520,7 +523,7 @@ impl Solver {
         };
         let stable = solver.stable_time_step_s()?;
         solver.dt_s = match dt_s {
-            None => 0.9 * stable.0,
+            None => COURANT_FACTOR * stable.0,
             Some(dt) if dt > 0.0 && dt <= stable.0 => dt,
             Some(dt) => {
                 return Err(Error::input(

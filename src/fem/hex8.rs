@@ -28,7 +28,7 @@ pub struct ElasticMaterial {
 }
 
 impl ElasticMaterial {
-    /// Structural steel as in ../shared/DATA.md section 3 (E = 210 GPa, nu = 0.3, rho = 7850).
+    /// Structural steel as in docs/references.md, section 3 (E = 210 GPa, nu = 0.3, rho = 7850).
     pub fn steel() -> Self {
         ElasticMaterial {
             youngs_modulus_pa: 210e9,

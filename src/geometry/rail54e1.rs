@@ -2,7 +2,7 @@
 //!
 //! Section coordinates `[y, z]` in mm: origin at the top of the crown, z up (the rail lies in
 //! z <= 0), symmetric about y = 0, upright (the 1:40 inclination is applied when the rail is
-//! placed in the track, see [`INCLINATION_RAD`]). Dimensions from ../shared/DATA.md section 2;
+//! placed in the track, see [`INCLINATION_RAD`]). Dimensions from docs/references.md, section 2;
 //! the fillet radii (R3, R8, R16, R20, R3, R2) are constructed as circles tangent to the
 //! neighbouring curves.
 

@@ -3,7 +3,7 @@
 //! Lateral coordinate `S` in mm: `S = 0` at the tape circle (70 mm from the flange back),
 //! `S = -70` at the flange back face, negative towards the flange. `F(S)` is the radius increment
 //! in mm: `r(S) = R_nominal + F(S)`. The piecewise polynomial/arc form with the coefficients below
-//! is the widely used one credited to H. Netter (DLR); see ../shared/DATA.md section 1.
+//! is the widely used one credited to H. Netter (DLR); see docs/references.md, section 1.
 //!
 //! The standard stops at `S = +60`. A 135 mm rim ends at `S = +65`: we extend the field-side
 //! 1:15 line (section A) to `S = +62` and add a 3 mm x 45 degree chamfer down to `S = +65`

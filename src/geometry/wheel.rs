@@ -76,7 +76,7 @@ pub struct MaterialSpec {
 }
 
 impl MaterialSpec {
-    /// Steel of ../shared/DATA.md section 3: E = 210 GPa, nu = 0.3, rho = 7850 kg/m^3.
+    /// Steel of docs/references.md, section 3: E = 210 GPa, nu = 0.3, rho = 7850 kg/m^3.
     pub const STEEL: MaterialSpec = MaterialSpec {
         youngs_modulus_pa: 210e9,
         poisson_ratio: 0.3,

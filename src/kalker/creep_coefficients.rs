@@ -1,10 +1,10 @@
 //! Kalker's creep coefficients C11, C22, C23 and the linear (no-slip) theory.
 //!
-//! Linear theory (Kalker 1967; DATA.md section 5), with `c = sqrt(a b)` and shear modulus G:
+//! Linear theory (Kalker 1967; docs/references.md, section 5), with `c = sqrt(a b)` and shear modulus G:
 //! `Fx = -G c^2 C11 xi`, `Fy = -G c^2 C22 eta - G c^3 C23 phi`.
 //!
 //! The coefficients are those of Kalker, *Three-dimensional elastic bodies in rolling contact*
-//! (1990), Table E.3, rows a/b = 0.2, 0.5, 1.0 and b/a = 0.5, 0.2 (as given in DATA.md), each for
+//! (1990), Table E.3, rows a/b = 0.2, 0.5, 1.0 and b/a = 0.5, 0.2 (as docs/references.md lists them), each for
 //! nu = 0, 0.25, 0.5. Interpolation:
 //! * in nu, as Kalker's CONTACT does, quadratically in 1/C (Lagrange through nu = 0, 0.25, 0.5):
 //!   `1/C(nu) = 8(nu-.25)(nu-.5)/C0 - 16(nu-.5)nu/C.25 + 8 nu(nu-.25)/C.5`;
@@ -36,7 +36,7 @@ struct TableRow {
     coefficients: [[f64; 3]; 3],
 }
 
-/// Kalker (1990) Table E.3, the rows given in DATA.md section 5 (ordered by a/b).
+/// Kalker (1990) Table E.3, the rows given in docs/references.md, section 5 (ordered by a/b).
 // 3.14 below is a tabulated C22, not an approximation of pi.
 #[allow(clippy::approx_constant)]
 const TABLE_E3: [TableRow; 5] = [

@@ -3,7 +3,7 @@
 //!
 //! The surface displacement is taken proportional to the local traction, `u = L p`, with
 //! flexibilities chosen so that the theory reproduces the linear creep coefficients
-//! (DATA.md section 5): `L1 = 8a/(3 C11 G)`, `L2 = 8a/(3 C22 G)`,
+//! (docs/references.md, section 5): `L1 = 8a/(3 C11 G)`, `L2 = 8a/(3 C22 G)`,
 //! `L3 = pi a sqrt(a/b) / (4 C23 G)`. In adhesion `s = w - du/dx = 0`, so along each strip
 //! y = const, marching from the leading edge x = +a(y) downstream with step dx:
 //! `px -= dx (xi/L1 - phi y/L3)`, `py -= dx (eta/L2 + phi x/L3)`,

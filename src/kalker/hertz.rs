@@ -4,7 +4,7 @@
 //! an ellipse with semi-axes a (along x) and b (along y) and the pressure is
 //! `p = p0 sqrt(1 - x^2/a^2 - y^2/b^2)`, `p0 = 3 Fn / (2 pi a b)`.
 //! With the major semi-axis `a_maj`, the minor `b_min`, `g = b_min/a_maj` and eccentricity
-//! `e^2 = 1 - g^2` (Johnson, *Contact Mechanics*, 1985, eq. 4.39; DATA.md section 5):
+//! `e^2 = 1 - g^2` (Johnson, *Contact Mechanics*, 1985, eq. 4.39; docs/references.md, section 5):
 //! * `B_min/A_maj = [E(e)/g^2 - K(e)] / [K(e) - E(e)]` where `A_maj` is the curvature along the
 //!   major axis (the smaller one) and `B_min` the larger one;
 //! * `A_maj = 3 Fn (K - E) / (2 pi E* a_maj^3 e^2)`, solved here for `a_maj`;
@@ -31,7 +31,7 @@ pub struct HertzContact {
     pub semi_axis_a_m: f64,
     /// Semi-axis b along the lateral direction y (m).
     pub semi_axis_b_m: f64,
-    /// Ellipticity, here the axis ratio b/a (DATA.md's g when a is the major axis).
+    /// Ellipticity, here the axis ratio b/a (the g of docs/references.md when a is the major axis).
     pub ellipticity: f64,
     /// Mutual approach of distant points of the two bodies (m).
     pub approach_m: f64,

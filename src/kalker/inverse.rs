@@ -1,5 +1,5 @@
 //! Force-prescribed mode: given the creep forces `(Fx, Fy)` (and Fn, mu, spin phi), find the
-//! creepages `(xi, eta)` — what CONTACT does when the FE forces are given to it (PAPER.md).
+//! creepages `(xi, eta)` — what CONTACT does when the FE forces are given to it (Yang & Li 2019).
 //!
 //! * `|F_t| > mu Fn` (beyond a relative 1e-9) cannot be carried by Coulomb friction: input error.
 //! * `|F_t| >= mu Fn (1 - 1e-9)`: the contact is saturated and every creepage beyond the

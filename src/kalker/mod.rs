@@ -1,4 +1,4 @@
-//! Kalker's rolling contact theory (issue 7): Hertz, linear theory, FASTSIM and an exact
+//! Kalker's rolling contact theory: Hertz, linear theory, FASTSIM and an exact
 //! half-space steady-rolling solver in the manner of Kalker's CONTACT, plus a force-prescribed
 //! (inverse) mode.
 //!
@@ -47,7 +47,7 @@ pub struct Material {
 }
 
 impl Material {
-    /// Wheel and rail steel as in DATA.md section 5: E = 210 GPa, nu = 0.3.
+    /// Wheel and rail steel as in docs/references.md, section 5: E = 210 GPa, nu = 0.3.
     pub const STEEL: Material = Material {
         young_modulus_pa: 210e9,
         poisson_ratio: 0.3,
@@ -80,7 +80,7 @@ impl Material {
         self.young_modulus_pa / (2.0 * (1.0 + self.poisson_ratio))
     }
 
-    /// Combined modulus of two identical bodies, E* = E / (2 (1 - nu^2)) (DATA.md section 5).
+    /// Combined modulus of two identical bodies, E* = E / (2 (1 - nu^2)) (docs/references.md, section 5).
     pub fn combined_modulus_pa(&self) -> f64 {
         self.young_modulus_pa / (2.0 * (1.0 - self.poisson_ratio * self.poisson_ratio))
     }

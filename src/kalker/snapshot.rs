@@ -6,7 +6,7 @@
 //! Orientation angle of a patch solution: the angle from the rolling direction (x) of the
 //! principal axis of the adhesion region, from the second moments of the adhesion points
 //! (`0.5 atan2(2 Ixy, Ixx - Iyy)`, area-weighted, about their centroid). Lateral creepage
-//! turns the adhesion zone, and the angle grows with it (PAPER.md).
+//! turns the adhesion zone, and the angle grows with it (Yang & Li 2019).
 
 use serde::{Deserialize, Serialize};
 

@@ -7,6 +7,11 @@ use serde::Serialize;
 
 use super::{hex, Mesh};
 
+/// The fraction of the critical step an explicit run takes (Yang & Li 2019: dt = 0.9 x the
+/// critical step): the margin for the step estimate (element transit `L / c`, springs, contact)
+/// being an estimate.
+pub const COURANT_FACTOR: f64 = 0.9;
+
 /// Summary of a mesh's quality.
 #[derive(Clone, Debug, Serialize)]
 pub struct QualityReport {
@@ -146,14 +151,14 @@ impl QualityReport {
             self.min_characteristic_length_at_m[2],
             self.critical_time_step_s * 1e9,
             self.wave_speed_m_per_s,
-            0.9 * self.critical_time_step_s * 1e9,
+            COURANT_FACTOR * self.critical_time_step_s * 1e9,
             self.volume_m3
         )
     }
 }
 
 /// Dilatational (P-wave) speed `c_L = sqrt(E (1 - nu) / ((1 + nu)(1 - 2 nu) rho))`
-/// (../shared/DATA.md section 6).
+/// (docs/references.md, section 6).
 pub fn dilatational_wave_speed(
     youngs_modulus_pa: f64,
     poisson_ratio: f64,

@@ -3,7 +3,7 @@
 //! and axle) and revolved about the axle axis. The solid axle core is an O-grid square, so no
 //! element degenerates on the axis.
 //!
-//! Remedy for the time step (issue "foundation", item 8): the wheel body is revolved with a
+//! Remedy for the time step: the wheel body is revolved with a
 //! uniform, coarse circumferential division. When a fine contact arc is wanted, the outer rows
 //! of the rim O-grid under the tread are replaced by a separately meshed *tread band*, fine in
 //! the section and graded circumferentially (fine on the contact arc, growing to the body's

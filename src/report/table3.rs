@@ -1,5 +1,4 @@
-//! The paper's operating point beside ours: Table 3 of Yang & Li (2019) (PAPER.md, "Operating
-//! point to reproduce") against a rolling run of the same case.
+//! The paper's operating point beside ours: Table 3 of Yang & Li (2019) (docs/operating-point.md) against a rolling run of the same case.
 //!
 //! For each instant the paper lists for the run's case: normal force Fn, lateral and
 //! longitudinal creep forces Fy and Fx (magnitudes: the paper gives no signs), the creep force
@@ -20,7 +19,7 @@ use serde::Serialize;
 use crate::table::Table;
 use crate::Result;
 
-/// Friction coefficient of cases 1-4 (PAPER.md).
+/// Friction coefficient of cases 1-4 (Yang & Li 2019).
 pub const PAPER_MU: f64 = 0.45;
 
 /// Ratio of creep force to traction bound counted as saturated.
@@ -55,7 +54,7 @@ impl PaperInstant {
     }
 }
 
-/// Yang & Li (2019), Table 3 (PAPER.md).
+/// Yang & Li (2019), Table 3 (Yang & Li 2019).
 pub const PAPER_TABLE3: [PaperInstant; 6] = [
     PaperInstant {
         case: 1,

@@ -25,7 +25,7 @@ pub struct SpringDamper {
     pub damping_n_s_per_m: f64,
 }
 
-/// Rail pad: vertical stiffness and damping per pad (DATA.md section 3), and the shear
+/// Rail pad: vertical stiffness and damping per pad (docs/references.md, section 3), and the shear
 /// (longitudinal and lateral) stiffness as a fraction of the vertical one.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -51,7 +51,7 @@ pub struct MaterialValues {
 }
 
 /// Driving torque on the axle: a ramp from zero to `max_n_m` at `ramp_end_s`, then constant
-/// (PAPER.md "Rolling").
+/// (Yang & Li 2019).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TorqueSpec {
@@ -183,7 +183,7 @@ pub struct RollingCase {
     pub mass_damping_per_s: f64,
     /// Hold the sleepers' cut at the track centre laterally: the half track's plane of
     /// symmetry, which a full sleeper under a symmetric axle load has. Default false, the
-    /// paper's model (PAPER.md: sleeper supports constrained laterally and longitudinally,
+    /// paper's model (Yang & Li 2019: sleeper supports constrained laterally and longitudinally,
     /// ballast vertical): there a half sleeper, held laterally only at its bottom face, tilts
     /// about the track axis as a rigid body under the off-centre wheel load, and the tilt moves
     /// the rail seat sideways (0.2 mm under the passing wheel on the demo track). With the cut

@@ -1,4 +1,4 @@
-//! The prescribed lateral displacement of the axle ends (PAPER.md, "Lateral wheel motion": a
+//! The prescribed lateral displacement of the axle ends (Yang & Li 2019: a
 //! displacement history applied to both ends of the half axle from t2 = 16 ms).
 //!
 //! The history is C1: the displacement and its velocity are continuous, so the axle starts from

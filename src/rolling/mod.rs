@@ -1,7 +1,7 @@
-//! Wheel-rail rolling contact (issue "rolling contact"): the half wheelset with its sprung mass
+//! Wheel-rail rolling contact: the half wheelset with its sprung mass
 //! on the 54E1 track, rolled by the explicit engine with penalty contact and friction.
 //!
-//! The model (PAPER.md "The model"):
+//! The model (Yang & Li 2019; docs/physics.md, "Rolling model"):
 //! - wheel, half axle, tread band, rail, rail band and sleepers are the scenario's hexahedra,
 //!   the bands tied to their bodies;
 //! - the two axle end faces form one rigid body that turns only about the axle (y), as in its
@@ -39,7 +39,7 @@ use crate::explicit::preload::{relax, PreloadOptions, PreloadReport};
 use crate::explicit::run::{
     push_num, run, truncate_csv_after, HistoryProbe, Quantity, RunOptions, RunSummary,
 };
-use crate::explicit::solver::OutputFields;
+use crate::explicit::solver::{OutputFields, COURANT_FACTOR};
 use crate::explicit::{AuxForces, Curve, ElasticMaterial, Formulation, Model, Solver, Spring};
 use crate::mesh::{material, P3};
 use crate::{Error, Result};
@@ -259,11 +259,11 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
             })?;
         }
     }
-    // Axle ends: both end faces of the half axle move as one rigid body (issue 4: "the half
-    // axle ends driven as one body") that turns only about the axle axis, as in its bearings,
+    // Axle ends: both end faces of the half axle move as one rigid body (the half axle's ends
+    // driven as one body) that turns only about the axle axis, as in its bearings,
     // and carries the prescribed lateral motion and the driving torque. With the two ends
     // free to move apart in x and to turn about z, the half wheelset would yaw under the
-    // single wheel's traction, and the yaw angle is a lateral creepage (PAPER.md: the same
+    // single wheel's traction, and the yaw angle is a lateral creepage (Yang & Li 2019: the same
     // lateral motion at both ends so that "the angle of attack stays about zero").
     let lateral = lateral_curve(case)?;
     let mut both_ends: Vec<usize> = model.node_set("axle_inner_end")?;
@@ -318,7 +318,7 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         .fold(f64::INFINITY, f64::min);
     let capped = pair.cap_stiffness_for_step(&model.nodal_mass_kg, element_step_s);
     // The cap keeps the step; a scale the step cannot carry anywhere is an input error, not
-    // a silent change of the penalty (issue 5, bad input).
+    // a silent change of the penalty.
     pair.check_penalty_scale_against_step(&source, "penalty_scale")?;
     // Before the preload (20 minutes on the paper model): the wheel must start on the rail,
     // seen from the rail's outer side.
@@ -565,7 +565,7 @@ pub fn preload_scaling(
     let transits = element_transits_s(model);
     for (e, conn) in mesh.elements.iter().enumerate() {
         let x: [P3; 8] = std::array::from_fn(|a| mesh.nodes[conn[a]]);
-        let ratio = (dt_s / (0.9 * transits[e])).powi(2);
+        let ratio = (dt_s / (COURANT_FACTOR * transits[e])).powi(2);
         if ratio <= 1.0 {
             continue;
         }
@@ -590,14 +590,17 @@ pub fn preload_scaling(
     for i in 0..n {
         if spring_k[i] > 0.0 {
             let m = model.nodal_mass_kg[i] + added[i];
-            added[i] += need(m, 2.0 * spring_k[i] * (dt_s / 1.8).powi(2));
+            added[i] += need(
+                m,
+                2.0 * spring_k[i] * (dt_s / (2.0 * COURANT_FACTOR)).powi(2),
+            );
         }
     }
     let k_max = pair
         .face_stiffness_n_per_m
         .iter()
         .fold(0.0f64, |m, &k| m.max(k));
-    let contact_mass = k_max * (dt_s / 0.9).powi(2);
+    let contact_mass = k_max * (dt_s / COURANT_FACTOR).powi(2);
     for &s in &pair.slaves {
         let m = model.nodal_mass_kg[s] + added[s];
         added[s] += need(m, contact_mass);
