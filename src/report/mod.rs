@@ -4,6 +4,7 @@
 pub mod chart;
 pub mod kalker_charts;
 pub mod modal_chart;
+mod page;
 pub mod patch_maps;
 pub mod run_report;
 mod sections;

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::chart::{write, write_heatmap, Heatmap, LineChart, Series, Stroke};
-use super::run_report::{Page, ReportOptions, Run};
+use super::page::{Page, ReportOptions, Run};
 
 /// What every section reads.
 #[derive(Clone, Copy)]

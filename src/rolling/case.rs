@@ -38,17 +38,8 @@ pub struct RailPad {
     pub shear_fraction: f64,
 }
 
-/// Isotropic elastic material.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MaterialValues {
-    /// Young's modulus (Pa).
-    pub youngs_modulus_pa: f64,
-    /// Poisson's ratio.
-    pub poisson_ratio: f64,
-    /// Density (kg/m^3).
-    pub density_kg_per_m3: f64,
-}
+/// Isotropic elastic material: the crate's one material type.
+pub use crate::material::Material as MaterialValues;
 
 /// Driving torque on the axle: a ramp from zero to `max_n_m` at `ramp_end_s`, then constant
 /// (Yang & Li 2019).

@@ -143,15 +143,10 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         // Frictionless preload: while the wheel settles its rim turns a little and the contact
         // points creep sideways; with friction that path would leave the lateral stick forces
         // saturated at the bound before the wheel has even started rolling.
-        let friction = m.contact.pair.friction;
-        m.contact.pair.friction = crate::contact::FrictionLaw::Coulomb { mu: 0.0 };
+        let friction = m.contact.pair.suspend_friction();
         let report = staged_preload(&mut m, &case.preload, &opts.stop);
         m.solver.clear_inertia_scaling();
-        m.contact.pair.friction = friction;
-        for st in m.contact.pair.state.iter_mut() {
-            st.tangential_force_n = [0.0; 3];
-            st.mu = friction.mu(0.0);
-        }
+        m.contact.pair.resume_friction(friction);
         let report = report?;
         if !m.contact.pair.state.iter().any(|s| s.active) {
             return Err(Error::input(
