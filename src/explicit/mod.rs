@@ -11,15 +11,22 @@
 //! - [`preload`]: static equilibrium by dynamic relaxation;
 //! - [`curve`]: piecewise-linear time curves.
 
+pub mod aux;
 pub mod batch;
 pub mod bench;
+mod colour;
 pub mod curve;
 pub mod element;
+pub mod energy;
 pub mod linearised;
 pub mod model;
 pub mod preload;
+mod rigid_body;
+mod rotation;
 pub mod run;
 pub mod solver;
+pub mod state;
+mod timestep;
 
 pub use curve::Curve;
 pub use element::{ElasticMaterial, Formulation, Hourglass};
