@@ -20,6 +20,7 @@ pub mod kalker;
 pub mod material;
 pub mod mesh;
 pub mod modal;
+pub mod model;
 pub mod pipeline;
 pub mod report;
 pub mod rolling;

@@ -382,7 +382,8 @@ fn synthetic_ring_cos3_axial_is_n3_axial() {
 /// clamp parser refuses a bad expression naming `--clamp`.
 #[test]
 fn modal_pipeline_runs_as_a_library() {
-    use squeal::modal::pipeline::{solve_and_classify, wheel_model, Clamp};
+    use squeal::modal::pipeline::solve_and_classify;
+    use squeal::model::modal::{wheel_model, Clamp};
     let mut spec: squeal::geometry::wheel::WheelSpec =
         squeal::input::read_json(std::path::Path::new("data/wheels/ns_intercity_920.json"))
             .unwrap();

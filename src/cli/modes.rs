@@ -11,8 +11,9 @@ use squeal::geometry::wheel::WheelSpec;
 use squeal::material::Material;
 use squeal::mesh::vtu;
 use squeal::modal::classify::ModeRecord;
-use squeal::modal::pipeline::{mesh_model, revolved_model, solve_and_classify, wheel_model, Clamp};
+use squeal::modal::pipeline::{revolved_model, solve_and_classify};
 use squeal::modal::ModalSolution;
+use squeal::model::modal::{mesh_model, wheel_model, Clamp};
 use squeal::{Error, Result};
 
 /// Hexahedron formulation of the stiffness (`--hex8`).

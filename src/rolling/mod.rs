@@ -23,10 +23,8 @@
 //! `patches/patch_*.csv|json`, `energy.csv`, `status.json`, `run.json`, VTU snapshots.
 
 pub mod build;
-pub mod case;
 mod drive;
 pub mod instruments;
-pub mod lateral;
 pub mod output;
 mod preload;
 
@@ -42,8 +40,9 @@ use instruments::ContactPointRecord;
 use preload::staged_preload;
 
 pub use crate::explicit::run::StopFlag;
+pub use crate::model::case::{embedded_default_case, load_case, LoadedCase, RollingCase};
+pub use crate::model::{case, lateral};
 pub use build::{build, preload_scaling, ModelInfo, RollingModel, INITIAL_GAP_LIMIT_M};
-pub use case::{embedded_default_case, load_case, LoadedCase, RollingCase};
 pub use output::{
     RollingContact, CONTACT_FORCE_COLUMNS, CONTACT_HISTORY_COLUMNS, VIBRATION_COLUMNS,
 };
