@@ -26,7 +26,9 @@ pub type ModesStage = dyn Fn(&Path) -> Result<()>;
 /// the axle and are the same either way.
 pub fn axisym_modes_stage(wheel: crate::geometry::wheel::WheelSpec) -> Box<ModesStage> {
     Box::new(move |dir: &Path| -> Result<()> {
-        use crate::axisym::{solve, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions};
+        use crate::modal::axisym::{
+            solve, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions,
+        };
         let model = AxisymModel::from_wheel(
             &wheel,
             WheelModelOptions {

@@ -9,8 +9,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
-use squeal::axisym::{self, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions};
 use squeal::geometry::wheel::WheelSpec;
+use squeal::modal::axisym::{self, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions};
 use squeal::{Error, Result};
 
 /// Largest harmonic accepted on the command line (a 920 mm wheel has no mode below 10 kHz

@@ -307,8 +307,8 @@ fn write_outputs(
         .collect();
     write_vtu(&fields)?;
     if let Some(h) = &args.hammer {
-        let measured = squeal::hammer::read_hammer_csv(h)?;
-        let cmp = squeal::hammer::compare(&measured, &refs);
+        let measured = squeal::modal::hammer::read_hammer_csv(h)?;
+        let cmp = squeal::modal::hammer::compare(&measured, &refs);
         let p = args.out.join("comparison.md");
         std::fs::write(&p, cmp.to_markdown()).map_err(|e| Error::io(&p, e))?;
         let p = args.out.join("comparison.csv");

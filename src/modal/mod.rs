@@ -30,7 +30,9 @@
 //!   residual `||K x - w² M x|| / ||K x||` (rigid modes: `/ (|sigma| ||M x||)`) must be below
 //!   the tolerance, else the solve fails with a message.
 
+pub mod axisym;
 pub mod classify;
+pub mod hammer;
 pub mod lanczos;
 pub mod mode;
 pub mod ordering;

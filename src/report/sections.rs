@@ -391,7 +391,7 @@ pub(super) fn modes_chart(page: &mut Page, ctx: &Context) -> Result<()> {
         page.heading("Wheel modes");
         let hammer_path = dir.join("hammer.csv");
         let measured = if hammer_path.exists() {
-            Some(crate::hammer::read_hammer_csv(&hammer_path)?)
+            Some(crate::modal::hammer::read_hammer_csv(&hammer_path)?)
         } else {
             None
         };
@@ -406,7 +406,7 @@ pub(super) fn modes_chart(page: &mut Page, ctx: &Context) -> Result<()> {
             let _ = writeln!(
                 page.md,
                 "{}",
-                crate::hammer::compare(meas, modes).to_markdown()
+                crate::modal::hammer::compare(meas, modes).to_markdown()
             );
         }
         page.files.push("modes.png".into());
