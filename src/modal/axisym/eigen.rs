@@ -28,6 +28,7 @@ use faer::sparse::linalg::cholesky::simplicial;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, MatMut, Par};
 
+use crate::modal::inertia::simplicial_negative_pivots;
 use crate::{Error, Result};
 
 /// Symmetric K and M with one shared upper-triangle pattern.
@@ -301,23 +302,7 @@ impl PencilMatrices {
             MemStack::new(&mut mem),
         )
         .map_err(|e| faer_err(&format!("LDL^T of K - sigma M at sigma = {sigma:.6e}"), e))?;
-        // The diagonal of column j (first stored entry, row j) holds the pivot D_j.
-        let lcp = self.pat.symbolic.col_ptr();
-        let lri = self.pat.symbolic.row_idx();
-        let mut negative = 0;
-        for j in 0..self.n {
-            let p = lcp[j];
-            debug_assert_eq!(lri[p], j);
-            let d = l_values[p];
-            if !d.is_finite() {
-                return Err(Error::Numerical(format!(
-                    "axisymmetric eigen solver: non-finite pivot in the LDL^T at sigma = {sigma:.6e}"
-                )));
-            }
-            if d < 0.0 {
-                negative += 1;
-            }
-        }
+        let negative = simplicial_negative_pivots(&self.pat.symbolic, &l_values, sigma)?;
         Ok(ShiftedFactor {
             pencil: self,
             l_values,
