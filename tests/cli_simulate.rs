@@ -201,3 +201,54 @@ fn bad_lateral_motion_and_forward_guide_exit_2_and_write_nothing() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn bench_rolling_splits_a_step_and_refuses_bad_step_counts() {
+    let out = squeal()
+        .args([
+            "bench",
+            "rolling",
+            "--scenario",
+            "data/scenarios/case3-ci.json",
+            "--steps",
+            "5",
+        ])
+        .output()
+        .expect("run");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    let value = |key: &str| -> f64 {
+        text.split_whitespace()
+            .find_map(|w| w.strip_prefix(&format!("{key}=")))
+            .unwrap_or_else(|| panic!("{key} missing in {text}"))
+            .parse()
+            .expect("number")
+    };
+    // Parts are timed apart, so only their signs and the share's range are certain.
+    let (step, elements, contact) = (
+        value("ms_per_step"),
+        value("elements_ms"),
+        value("contact_ms"),
+    );
+    assert!(step > 0.0 && elements > 0.0 && contact > 0.0, "{text}");
+    let share = value("contact_share");
+    assert!(share > 0.0 && share < 1.5, "{text}");
+    assert_eq!(value("elements"), 9702.0, "the tiny model's element count");
+    let bad = squeal()
+        .args([
+            "bench",
+            "rolling",
+            "--scenario",
+            "data/scenarios/case3-ci.json",
+            "--steps",
+            "0",
+        ])
+        .output()
+        .expect("run");
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--steps"));
+}

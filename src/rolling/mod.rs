@@ -22,6 +22,7 @@
 //! wheelset, so the rolling motion itself is not in the signal), `contact_forces.csv`,
 //! `patches/patch_*.csv|json`, `energy.csv`, `status.json`, `run.json`, VTU snapshots.
 
+pub mod bench;
 pub mod build;
 mod drive;
 pub mod instruments;
