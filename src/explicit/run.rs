@@ -170,6 +170,9 @@ pub fn align_time_step(solver: &mut Solver, sample_interval_s: f64) -> Result<u6
 }
 
 /// Runs from the solver's current state to `opts.end_time_s`.
+///
+/// Kept in one piece: the time loop with its output, checkpoint, progress and diagnosis hooks in
+/// the order they happen each step.
 pub fn run<A: AuxForces + ?Sized>(
     solver: &mut Solver,
     aux: &mut A,

@@ -148,6 +148,9 @@ fn sign_changes_above(values: &[f64], threshold: f64) -> u32 {
 
 /// [`classify_shape`] on bare node coordinates (any mesh kind); `axle` flags the nodes of the
 /// half axle (empty: no axle).
+///
+/// Kept in one piece: the family, nodal-diameter and nodal-circle tests read the same shape samples
+/// in one pass.
 pub fn classify_shape_points(
     nodes: &[[f64; 3]],
     weights: &[f64],

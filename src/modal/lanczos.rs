@@ -16,6 +16,9 @@ use std::time::Instant;
 /// All modes with `f <= fmax_hz` of `K x = w² M x` (K, M: lower triangles, symmetric, M positive
 /// definite, K positive semi-definite), by block shift-invert Lanczos (module docs), over
 /// `opts.slices` slices of the band.
+///
+/// Kept in one piece: the band solve's steps in order (checks, symbolic analysis, Sturm counts,
+/// slices, purification, residual check), each delegating to factor.rs, slice.rs or dense.rs.
 pub fn solve(
     k: &SparseColMat<usize, f64>,
     m: &SparseColMat<usize, f64>,

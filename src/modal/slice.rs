@@ -69,6 +69,10 @@ pub fn check_slices(slices: usize) -> Result<()> {
 /// Block Lanczos on `op` until the modes of `slice` have converged (`count` of them when the
 /// Sturm counts are known), then purification, Rayleigh quotients and residuals. `rigid_scale`
 /// is the band's stiffness scale for the residual of rigid modes.
+///
+/// Kept in one piece: the Lanczos loop of one slice, whose state (basis, projected matrix,
+/// convergence bookkeeping) lives across iterations; the algebra it calls is in block.rs and
+/// dense.rs.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn solve_slice(
     k: &SparseColMat<usize, f64>,

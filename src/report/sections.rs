@@ -92,6 +92,8 @@ fn wavelet_chart(
 }
 
 /// Wheel vibration histories and PSDs of all runs on one figure per direction (paper fig. 9); the PSD chart states its window and padding.
+///
+/// Kept in one piece: one report section, written top to bottom as it reads.
 pub(super) fn vibration(page: &mut Page, ctx: &Context) -> Result<()> {
     let Context { runs, out_dir, .. } = *ctx;
     // ---- Vibration histories and PSDs of all runs (paper fig. 9).
@@ -438,6 +440,8 @@ pub(super) fn identification(page: &mut Page, ctx: &Context) -> Result<()> {
 }
 
 /// Do the zero-nodal-circle modes grow: rms of the rim against the hub, and wavelet ridges of the squeal modes' bands with their growth rates.
+///
+/// Kept in one piece: one report section, written top to bottom as it reads.
 pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
     let Context {
         runs,

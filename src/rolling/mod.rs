@@ -104,6 +104,9 @@ pub struct RunRecord {
 pub const LIFT_OFF_LIMIT_S: f64 = 0.002;
 
 /// Runs one case into `opts.out_dir`.
+///
+/// Kept in one piece: the run's stages in order (build, preload, rolling start, time loop,
+/// records), each a function of its own.
 pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord> {
     let mut case = loaded.case.clone();
     if let Some(t) = opts.end_time_s {

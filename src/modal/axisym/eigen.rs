@@ -527,6 +527,9 @@ fn start_vector(n: usize, seed: u64) -> Vec<f64> {
 /// motions of a free body, K x = 0), locked before the Lanczos runs so that the runs need not
 /// resolve their (repeated) zero eigenvalue. They are M-orthonormalised; those with a
 /// Rayleigh quotient at or above `lambda_max` are ignored.
+///
+/// Kept in one piece: the restarted Lanczos runs with deflation and their bookkeeping share one
+/// state; the factor, the dot products and the polish are functions of their own.
 pub fn solve_below(
     p: &PencilMatrices,
     s: &EigenSettings,

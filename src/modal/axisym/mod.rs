@@ -498,6 +498,9 @@ pub fn solve_harmonic(
 }
 
 /// Solve one harmonic on a precomputed structure (dof map, count, pattern).
+///
+/// Kept in one piece: assembly, axis conditions, solve and labelling of one harmonic share the
+/// section's numbering.
 fn solve_harmonic_with(
     model: &AxisymModel,
     harmonic: u32,
