@@ -204,17 +204,20 @@ fn bad_lateral_motion_and_forward_guide_exit_2_and_write_nothing() {
 
 #[test]
 fn bench_rolling_splits_a_step_and_refuses_bad_step_counts() {
-    let out = squeal()
-        .args([
-            "bench",
-            "rolling",
-            "--scenario",
-            "data/scenarios/case3-ci.json",
-            "--steps",
-            "5",
-        ])
-        .output()
-        .expect("run");
+    let bench = |steps: &str| {
+        squeal()
+            .args([
+                "bench",
+                "rolling",
+                "--scenario",
+                "data/scenarios/case3-ci.json",
+                "--steps",
+                steps,
+            ])
+            .output()
+            .expect("run")
+    };
+    let out = bench("5");
     assert!(
         out.status.success(),
         "{}",
@@ -238,17 +241,7 @@ fn bench_rolling_splits_a_step_and_refuses_bad_step_counts() {
     let share = value("contact_share");
     assert!(share > 0.0 && share < 1.5, "{text}");
     assert_eq!(value("elements"), 9702.0, "the tiny model's element count");
-    let bad = squeal()
-        .args([
-            "bench",
-            "rolling",
-            "--scenario",
-            "data/scenarios/case3-ci.json",
-            "--steps",
-            "0",
-        ])
-        .output()
-        .expect("run");
+    let bad = bench("0");
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--steps"));
 }

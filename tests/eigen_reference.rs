@@ -7,6 +7,8 @@
 //! seeded random FE-like pencils: `M = L Lᵀ` by a plain Cholesky, `C = L⁻¹ K L⁻ᵀ`, eigenvalues
 //! of `C` by cyclic Jacobi rotations, all written here without faer.
 
+mod jacobi;
+
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -22,6 +24,8 @@ use squeal::modal::axisym::eigen::{
 };
 use squeal::modal::inertia::negative_pivots;
 use squeal::modal::{solve, ModalOptions};
+
+use jacobi::jacobi_eigenvalues;
 
 /// A random FE-like pencil: `n` dofs in a chain with springs to the next dof and to one a few
 /// places on (like element couplings), each spring adding `k (e_i - e_j)(e_i - e_j)ᵀ` to K and
@@ -109,7 +113,7 @@ impl Pencil {
 }
 
 /// Eigenvalues of the dense pencil, ascending: Cholesky of M, `C = L⁻¹ K L⁻ᵀ`, cyclic Jacobi
-/// until the off-diagonal mass is below 1e-15 of the diagonal's.
+/// (tests/jacobi).
 fn dense_eigenvalues(k: &[Vec<f64>], m: &[Vec<f64>]) -> Vec<f64> {
     let n = k.len();
     let mut l = vec![vec![0.0; n]; n];
@@ -145,41 +149,7 @@ fn dense_eigenvalues(k: &[Vec<f64>], m: &[Vec<f64>]) -> Vec<f64> {
             a[j][i] = s;
         }
     }
-    for _sweep in 0..100 {
-        let off: f64 = (0..n)
-            .flat_map(|i| (0..n).filter(move |&j| j != i).map(move |j| (i, j)))
-            .map(|(i, j)| a[i][j] * a[i][j])
-            .sum();
-        let diag: f64 = (0..n).map(|i| a[i][i] * a[i][i]).sum();
-        if off <= 1e-30 * diag {
-            break;
-        }
-        for p in 0..n {
-            for q in p + 1..n {
-                if a[p][q] == 0.0 {
-                    continue;
-                }
-                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
-                let t = if theta == 0.0 { 1.0 } else { t };
-                let c = 1.0 / (t * t + 1.0).sqrt();
-                let s = t * c;
-                for r in 0..n {
-                    let (arp, arq) = (a[r][p], a[r][q]);
-                    a[r][p] = c * arp - s * arq;
-                    a[r][q] = s * arp + c * arq;
-                }
-                for r in 0..n {
-                    let (apr, aqr) = (a[p][r], a[q][r]);
-                    a[p][r] = c * apr - s * aqr;
-                    a[q][r] = s * apr + c * aqr;
-                }
-            }
-        }
-    }
-    let mut values: Vec<f64> = (0..n).map(|i| a[i][i]).collect();
-    values.sort_by(f64::total_cmp);
-    values
+    jacobi_eigenvalues(a)
 }
 
 /// A band edge halfway between the reference eigenvalues `count - 1` and `count` (so that no

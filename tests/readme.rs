@@ -42,7 +42,10 @@ fn check_links(file: &Path, allow_external: bool) -> Vec<String> {
 fn readme_is_short_and_its_links_stay_inside_the_repository() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let readme = root.join("README.md");
-    let lines = std::fs::read_to_string(&readme).expect("README").lines().count();
+    let lines = std::fs::read_to_string(&readme)
+        .expect("README")
+        .lines()
+        .count();
     assert!(lines < 200, "README.md has {lines} lines");
     let mut broken = check_links(&readme, false);
     // docs/ may cite published sources on the web; its links inside the repository must exist.

@@ -9,8 +9,9 @@ use faer::sparse::SparseColMat;
 use faer::{Accum, Mat, MatMut, MatRef, Par, Side};
 use rayon::prelude::*;
 
-/// Deterministic pseudo-random start vector (xorshift), so runs are reproducible.
-pub(super) fn random_vector(n: usize, seed: u64) -> Vec<f64> {
+/// Deterministic pseudo-random start vector (xorshift), so runs are reproducible; both
+/// Lanczos solvers (3D and axisymmetric) start from it.
+pub(crate) fn random_vector(n: usize, seed: u64) -> Vec<f64> {
     let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
     (0..n)
         .map(|_| {

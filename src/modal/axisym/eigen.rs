@@ -28,6 +28,7 @@ use faer::sparse::linalg::cholesky::simplicial;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, MatMut, Par};
 
+use crate::modal::block::random_vector;
 use crate::modal::inertia::simplicial_negative_pivots;
 use crate::{Error, Result};
 
@@ -508,19 +509,6 @@ pub fn m_dot(mx: &[f64], y: &[f64]) -> f64 {
     acc.iter().sum::<f64>() + tail
 }
 
-/// Deterministic pseudo-random start vector (xorshift), so results repeat exactly.
-fn start_vector(n: usize, seed: u64) -> Vec<f64> {
-    let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-    (0..n)
-        .map(|_| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        })
-        .collect()
-}
-
 /// All eigenpairs with lambda < `lambda_max`.
 ///
 /// `known`: exact eigenvectors known beforehand (permuted numbering; here the rigid-body
@@ -596,7 +584,7 @@ pub fn solve_below(
         let mut mq: Vec<Vec<f64>> = Vec::new();
         let mut alpha: Vec<f64> = Vec::new();
         let mut beta: Vec<f64> = Vec::new();
-        let mut v = start_vector(n, round);
+        let mut v = random_vector(n, round);
         let mut accepted_this_round = false;
         let mut next_check = (missing + 10).min(max_steps);
         // Checks in a row at which every wanted Ritz value had converged but no new one had
