@@ -19,6 +19,7 @@ pub mod material;
 pub mod mesh;
 pub mod modal;
 pub mod model;
+pub mod output;
 pub mod pipeline;
 pub mod report;
 pub mod rolling;

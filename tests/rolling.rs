@@ -28,6 +28,7 @@ fn run_in_temp(
         &SimulateOptions {
             out_dir: dir.clone(),
             resume: false,
+            overwrite: false,
             progress: false,
             end_time_s,
             stop: StopFlag::new(),
@@ -347,6 +348,7 @@ fn simulate_in(dir: &Path, loaded: &squeal::rolling::case::LoadedCase) -> squeal
         &SimulateOptions {
             out_dir: dir.join("out"),
             resume: false,
+            overwrite: false,
             progress: false,
             end_time_s: None,
             stop: StopFlag::new(),
@@ -415,6 +417,7 @@ fn stop_during_the_preload_is_an_interruption() {
         &SimulateOptions {
             out_dir: dir.clone(),
             resume: false,
+            overwrite: false,
             progress: false,
             end_time_s: None,
             stop,
@@ -437,6 +440,7 @@ fn resumed_run_matches_the_uninterrupted_one() {
     let opts = |dir: &str, resume: bool, end: Option<f64>| SimulateOptions {
         out_dir: base.join(dir),
         resume,
+        overwrite: false,
         progress: false,
         end_time_s: end,
         stop: StopFlag::new(),
@@ -732,6 +736,7 @@ fn demo_runs() -> std::path::PathBuf {
             &SimulateOptions {
                 out_dir: dir.join(format!("case{n}-demo")),
                 resume: false,
+                overwrite: false,
                 progress: false,
                 end_time_s: None,
                 stop: StopFlag::new(),

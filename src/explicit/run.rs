@@ -27,6 +27,8 @@ use crate::mesh::vtu::{self, PointVectorField};
 use crate::mesh::P3;
 use crate::{Error, Result};
 
+/// The checkpoint a run writes into its directory (and `--resume` reads).
+pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
 /// Sampled quantity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -199,7 +201,7 @@ pub fn run<A: AuxForces + ?Sized>(
     let per_sample = align_time_step(solver, opts.sample_interval_s)?;
     let hist_path = opts.out_dir.join("histories.csv");
     let energy_path = opts.out_dir.join("energy.csv");
-    let ckpt_path = opts.out_dir.join("checkpoint.bin");
+    let ckpt_path = opts.out_dir.join(CHECKPOINT_FILE);
     let mut resumed_from = None;
     if opts.resume {
         let aux_state = read_checkpoint(solver, &ckpt_path)?;
