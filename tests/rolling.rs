@@ -59,6 +59,11 @@ fn tiny_case_runs_and_keeps_the_contact_invariants() {
     ] {
         assert!(dir.join(f).exists(), "{f} missing");
     }
+    // The snapshots as one ParaView time series.
+    let series = squeal::mesh::pvd::read_collection(&dir.join("snapshots.pvd")).unwrap();
+    assert_eq!(series.len(), 1);
+    assert!((series[0].0 - 2e-3).abs() < 1e-12);
+    assert_eq!(series[0].1, "snapshot_0002000.0us.vtu");
     let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
     // The patch snapshot's contact normal is the one in the force history: the normal force's
     // lateral part, total lateral force less its friction part, over the normal force.

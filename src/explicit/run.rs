@@ -415,7 +415,27 @@ pub fn write_snapshot(solver: &Solver, dir: &Path, time_s: f64) -> Result<PathBu
             },
         ],
     )?;
+    write_snapshot_collection(dir)?;
     Ok(path)
+}
+
+/// The run's snapshots as one ParaView time series: `snapshots.pvd` over every
+/// `snapshot_<time in us>.vtu` in `dir` (rewritten after each snapshot, so that a resumed or
+/// interrupted run's collection lists what is there).
+fn write_snapshot_collection(dir: &Path) -> Result<()> {
+    let entries = std::fs::read_dir(dir).map_err(io(dir))?;
+    let mut files = Vec::new();
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().to_string();
+        let time_us = name
+            .strip_prefix("snapshot_")
+            .and_then(|r| r.strip_suffix("us.vtu"))
+            .and_then(|t| t.parse::<f64>().ok());
+        if let Some(t) = time_us {
+            files.push((t * 1e-6, name));
+        }
+    }
+    crate::mesh::pvd::write_collection(&dir.join("snapshots.pvd"), &files)
 }
 
 /// Drops the rows of a CSV whose first column exceeds `time_s` (for resume).
