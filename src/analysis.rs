@@ -35,7 +35,8 @@ pub struct AnalysisOptions {
     pub signal: String,
     /// Number of dominant peaks.
     pub peaks: usize,
-    /// Band for the peaks (Hz).
+    /// Band for the peaks (Hz); an infinite upper edge means [`DEFAULT_FMAX_HZ`] or the
+    /// history's Nyquist frequency, whichever is lower.
     pub band_hz: (f64, f64),
     /// Welch segment length (None: chosen for the resolution, see
     /// [`crate::signal::resolution`]).
@@ -75,6 +76,10 @@ impl Default for AnalysisOptions {
 /// Default largest bin spacing (Hz): fine enough to put (1,0) at 1767 Hz and (0,4) at 1839 Hz
 /// of the default wheel on different bins.
 pub const DEFAULT_RESOLUTION_HZ: f64 = 50.0;
+
+/// Default upper edge of the peak band (Hz): wheel squeal lies below it (Thompson, Railway
+/// Noise and Vibration, 2009, ch. 9: 1-10 kHz at most).
+pub const DEFAULT_FMAX_HZ: f64 = 10_000.0;
 
 /// The analysed span of a record.
 #[derive(Clone, Debug, Serialize)]
@@ -165,7 +170,7 @@ pub fn analyse_run(run_dir: &Path, options: &AnalysisOptions) -> Result<RunAnaly
         return Err(Error::input(
             run_dir.display().to_string(),
             "RUN_DIR",
-            "is not a directory",
+            "is not a directory: expected a run directory with histories.csv (from `squeal simulate`)",
         ));
     }
     let histories = run_dir.join("histories.csv");
@@ -182,7 +187,11 @@ pub fn analyse_run(run_dir: &Path, options: &AnalysisOptions) -> Result<RunAnaly
     })?;
     let series = TimeSeries::from_csv(&histories, &column)?;
     let nyquist = 0.5 * series.sample_rate_hz;
-    let (f_lo, f_hi) = options.band_hz;
+    // An infinite upper edge asks for the default: 10 kHz or the Nyquist frequency.
+    let (f_lo, f_hi) = match options.band_hz {
+        (lo, hi) if hi.is_infinite() && hi > 0.0 => (lo, DEFAULT_FMAX_HZ.min(nyquist)),
+        band => band,
+    };
     if !(f_lo >= 0.0 && f_hi > f_lo) {
         return Err(Error::input(
             "command line",
@@ -194,7 +203,7 @@ pub fn analyse_run(run_dir: &Path, options: &AnalysisOptions) -> Result<RunAnaly
         return Err(Error::input(
             histories.display().to_string(),
             "--fmax",
-            format!("{f_hi} Hz is above the Nyquist frequency {nyquist:.1} Hz of the {:.1} Hz sampled history; lower --fmax or sample faster", series.sample_rate_hz),
+            format!("{f_hi} Hz is outside the allowed range (fmin, {nyquist:.1}] Hz: the Nyquist frequency of the {:.1} Hz sampled history; lower --fmax or sample faster", series.sample_rate_hz),
         ));
     }
     let (from_s, start_from) = match options.from_s {

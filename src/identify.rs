@@ -221,8 +221,13 @@ pub fn identify(
 
 /// Parse a required mode "m,n" (nodal circles, nodal diameters).
 pub fn parse_required(text: &str) -> Result<(u32, u32)> {
+    parse_mode_label(text, "--require")
+}
+
+/// A mode label `m,n` (or `(m,n)`) given in the command-line option `field`.
+pub fn parse_mode_label(text: &str, field: &str) -> Result<(u32, u32)> {
     let bad = || {
-        Error::input("command line", "--require", format!("`{text}` is not a mode label: write nodal circles and nodal diameters as two non-negative integers, e.g. 0,3"))
+        Error::input("command line", field, format!("`{text}` is not a mode label: write nodal circles and nodal diameters as two non-negative integers, e.g. 0,3"))
     };
     let parts: Vec<&str> = text
         .trim()

@@ -24,7 +24,18 @@ pub fn parse_json<T: DeserializeOwned>(text: &str, source_name: &str) -> Result<
 
 /// Read and parse a JSON file.
 pub fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        // A path that names no file is a mistake in the input (exit 2), not a failing disk.
+        if e.kind() == std::io::ErrorKind::NotFound {
+            Error::input(
+                path.display().to_string(),
+                "file",
+                "does not exist: expected an existing JSON file (check the path)",
+            )
+        } else {
+            Error::io(path, e)
+        }
+    })?;
     parse_json(&text, &path.display().to_string())
 }
 

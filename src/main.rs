@@ -1,5 +1,5 @@
 //! The `squeal` command: parse, call the library, print. No numerics here.
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 mod cli;
 
@@ -42,8 +42,22 @@ enum Command {
     Bench(cli::bench::BenchArgs),
 }
 
+/// Every option that takes a value accepts a negative number (`--density-kg-per-m3 -7850`),
+/// so that the range check, not the parser, answers with the field and its allowed range.
+fn negative_numbers_as_values(cmd: clap::Command) -> clap::Command {
+    cmd.mut_args(|a| {
+        if a.get_action().takes_values() {
+            a.allow_negative_numbers(true)
+        } else {
+            a
+        }
+    })
+    .mut_subcommands(negative_numbers_as_values)
+}
+
 fn main() {
-    let cli = Cli::parse();
+    let matches = negative_numbers_as_values(Cli::command()).get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     let result: squeal::Result<()> = match cli.command {
         None => cli::default_run::run(std::path::Path::new("reports/default")),
         Some(Command::Mesh(args)) => cli::mesh::run(args),

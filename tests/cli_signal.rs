@@ -141,7 +141,7 @@ fn bad_input_exits_with_code_2_and_says_why() {
                 "--out",
                 out,
             ],
-            "1..=8000",
+            "2..=8000",
         ),
         (
             vec![

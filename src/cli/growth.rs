@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use squeal::growth::{band_growth, bands_for_modes, read_column, ridges_csv, to_markdown};
-use squeal::identify::{parse_required, ModeRef};
+use squeal::identify::{parse_mode_label, ModeRef};
 use squeal::{Error, Result};
 
 /// Arguments of `squeal growth`.
@@ -42,10 +42,17 @@ pub fn run(args: GrowthArgs) -> Result<()> {
             format!("must lie in (0, 0.5) (got {})", args.half_width),
         ));
     }
+    if !(args.window_ms > 0.0 && args.window_ms <= 1000.0) {
+        return Err(Error::input(
+            "command line",
+            "--window-ms",
+            format!("must lie in (0, 1000] ms (got {})", args.window_ms),
+        ));
+    }
     let labels: Vec<(u32, u32)> = args
         .modes
         .iter()
-        .map(|m| parse_required(m))
+        .map(|m| parse_mode_label(m, "--mode"))
         .collect::<Result<_>>()?;
     let modes_path = args.run_dir.join("modes.json");
     if !modes_path.exists() {

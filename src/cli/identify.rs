@@ -23,8 +23,9 @@ pub struct CommonArgs {
     #[arg(long, default_value_t = 50.0)]
     pub fmin: f64,
     /// Highest peak frequency (Hz); must not exceed the Nyquist frequency of the history.
-    #[arg(long, default_value_t = 10_000.0)]
-    pub fmax: f64,
+    /// Default: 10 kHz or the Nyquist frequency, whichever is lower.
+    #[arg(long)]
+    pub fmax: Option<f64>,
     /// Welch segment length (default: chosen for --resolution-hz: one zero-padded segment of
     /// a short window, averaged segments of a long one).
     #[arg(long)]
@@ -76,7 +77,7 @@ impl CommonArgs {
         Ok(AnalysisOptions {
             signal: self.signal.clone(),
             peaks: self.peaks,
-            band_hz: (self.fmin, self.fmax),
+            band_hz: (self.fmin, self.fmax.unwrap_or(f64::INFINITY)),
             nperseg: self.nperseg,
             resolution_hz: self.resolution_hz,
             from_s: self.from_ms.map(|t| t * 1e-3),

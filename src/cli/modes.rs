@@ -107,11 +107,30 @@ pub fn run(args: ModesArgs) -> Result<()> {
         ));
     }
     squeal::modal::lanczos::check_slices(args.slices)?;
+    // The material options are checked first (their ranges), then refused for a wheel, whose
+    // material is its wheel file's.
+    let material = mesh_material(&args)?;
+    if args.wheel.is_some() {
+        for (given, field) in [
+            (args.youngs_modulus_pa.is_some(), "--youngs-modulus-pa"),
+            (args.poisson_ratio.is_some(), "--poisson-ratio"),
+            (args.density_kg_per_m3.is_some(), "--density-kg-per-m3"),
+        ] {
+            if given {
+                return Err(Error::input(
+                    "command line",
+                    field,
+                    "applies to a --mesh body only; a wheel's material is in its wheel file \
+                     (`material`)",
+                ));
+            }
+        }
+    }
     let clamp = Clamp::parse(&args.clamp)?;
     let started = std::time::Instant::now();
     let model = match &args.wheel {
         None => {
-            let (mesh, material) = read_mesh(&args)?;
+            let mesh = read_mesh(&args)?;
             let model = mesh_model(mesh, material, &clamp, args.hex8.into())?;
             if let Some(n) = model.box_clamped_nodes {
                 println!("clamped {n} nodes ({})", args.clamp);
@@ -167,9 +186,8 @@ fn read_wheel(wheel: &std::path::Path, element_size_mm: Option<f64>) -> Result<W
     Ok(spec)
 }
 
-/// Reads `--mesh` and its material options (steel by default).
-fn read_mesh(args: &ModesArgs) -> Result<(squeal::mesh::volume::VolumeMesh, Material)> {
-    let path = args.mesh.as_ref().expect("clap group: --wheel or --mesh");
+/// The material options of a --mesh body (steel by default), checked against their ranges.
+fn mesh_material(args: &ModesArgs) -> Result<Material> {
     let steel = Material::STEEL;
     let nu = args.poisson_ratio.unwrap_or(steel.poisson_ratio);
     if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
@@ -179,7 +197,7 @@ fn read_mesh(args: &ModesArgs) -> Result<(squeal::mesh::volume::VolumeMesh, Mate
             format!("{nu} is outside the allowed range (-1, 0.5)"),
         ));
     }
-    let material = Material {
+    Ok(Material {
         youngs_modulus_pa: positive(
             args.youngs_modulus_pa,
             steel.youngs_modulus_pa,
@@ -193,7 +211,12 @@ fn read_mesh(args: &ModesArgs) -> Result<(squeal::mesh::volume::VolumeMesh, Mate
             "--density-kg-per-m3",
             1e6,
         )?,
-    };
+    })
+}
+
+/// Reads `--mesh`.
+fn read_mesh(args: &ModesArgs) -> Result<squeal::mesh::volume::VolumeMesh> {
+    let path = args.mesh.as_ref().expect("clap group: --wheel or --mesh");
     let mesh = squeal::mesh::volume_io::read(path).map_err(|e| match e {
         Error::Io { path, source } => Error::input(
             path,
@@ -202,7 +225,7 @@ fn read_mesh(args: &ModesArgs) -> Result<(squeal::mesh::volume::VolumeMesh, Mate
         ),
         other => other,
     })?;
-    Ok((mesh, material))
+    Ok(mesh)
 }
 
 fn print_solution(args: &ModesArgs, sol: &ModalSolution) {

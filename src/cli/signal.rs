@@ -180,6 +180,41 @@ pub fn run_psd(args: PsdArgs) -> Result<()> {
             ))
         }
     };
+    let nyquist_hz = 0.5 * series.sample_rate_hz;
+    if !(args.peak_fmin >= 0.0 && args.peak_fmin < nyquist_hz) {
+        return Err(cli(
+            "--peak-fmin",
+            format!(
+                "must be in [0, {nyquist_hz}) Hz (the Nyquist frequency of the {} Hz sampled \
+                 column), got {}",
+                series.sample_rate_hz, args.peak_fmin
+            ),
+        ));
+    }
+    if let Some(fmax) = args.peak_fmax {
+        if !(fmax > args.peak_fmin && fmax <= nyquist_hz) {
+            return Err(cli(
+                "--peak-fmax",
+                format!(
+                    "must be in ({}, {nyquist_hz}] Hz (above --peak-fmin, at most the Nyquist \
+                     frequency), got {fmax}",
+                    args.peak_fmin
+                ),
+            ));
+        }
+    }
+    if !(1..=1000).contains(&args.peaks) {
+        return Err(cli(
+            "--peaks",
+            format!("must be in [1, 1000], got {}", args.peaks),
+        ));
+    }
+    if !(args.min_separation_hz >= 0.0 && args.min_separation_hz.is_finite()) {
+        return Err(cli(
+            "--min-separation-hz",
+            format!("must be in [0, inf) Hz, got {}", args.min_separation_hz),
+        ));
+    }
     let psd = welch(&series.values, series.sample_rate_hz, &params)
         .map_err(|e| args.input.in_context(e))?;
     let search = PeakSearch {

@@ -42,6 +42,16 @@ impl TimeSeries {
                 )
             })?
             .clone();
+        if headers.iter().all(|h| h.trim().is_empty()) {
+            return Err(Error::input(
+                source.clone(),
+                "header",
+                format!(
+                    "the file has no header line (is it empty?): need a `{TIME_COLUMN}` column \
+                     and the signal's column"
+                ),
+            ));
+        }
         let available = headers.iter().collect::<Vec<_>>().join(", ");
         let find = |name: &str| {
             headers.iter().position(|h| h == name).ok_or_else(|| {

@@ -100,12 +100,14 @@ impl WelchParams {
                 "the signal is empty; need at least 1 sample",
             ));
         }
-        if self.nperseg == 0 || self.nperseg > signal_length {
+        // Two samples at least: a one-sample segment's window is zero (Hann, Hamming at its
+        // end) and its spectrum has no frequency but DC.
+        if self.nperseg < 2 || self.nperseg > signal_length {
             return Err(Error::input(
                 "welch",
                 "nperseg",
                 format!(
-                    "segment length {} is outside the allowed range 1..={signal_length} (the signal length in samples)",
+                    "segment length {} is outside the allowed range 2..={signal_length} (the signal length in samples)",
                     self.nperseg
                 ),
             ));

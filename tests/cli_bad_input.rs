@@ -1,0 +1,683 @@
+//! Bad input across every subcommand, table-driven: each row must exit with its code (2 for
+//! input, 1 for I/O), name the file or field and the allowed range (or the values allowed),
+//! and write nothing: every command runs in a fresh empty folder with absolute input paths and
+//! relative outputs, and the folder must still be empty afterwards.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn fixtures() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("squeal_bad_input_fx_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // A 10 kHz signal with a 300 Hz tone, a header-only CSV, an empty file, a run directory.
+    let mut csv = String::from("time_s,x_m\n");
+    for i in 0..2000 {
+        let t = i as f64 * 1e-4;
+        csv.push_str(&format!(
+            "{t},{}\n",
+            (2.0 * std::f64::consts::PI * 300.0 * t).sin()
+        ));
+    }
+    std::fs::write(dir.join("s.csv"), &csv).unwrap();
+    std::fs::write(dir.join("header.csv"), "time_s,x_m\n").unwrap();
+    std::fs::write(dir.join("empty.csv"), "").unwrap();
+    std::fs::write(dir.join("bad.json"), "{ not json").unwrap();
+    let run = dir.join("run");
+    std::fs::create_dir_all(&run).unwrap();
+    let mut h = String::from("time_s,lateral_rim_velocity_m_per_s\n");
+    for i in 0..2000 {
+        let t = i as f64 * 1e-4;
+        h.push_str(&format!(
+            "{t},{}\n",
+            (2.0 * std::f64::consts::PI * 1000.0 * t).sin()
+        ));
+    }
+    std::fs::write(run.join("histories.csv"), h).unwrap();
+    dir
+}
+
+/// Words that state an allowed range, the allowed values or form, or what was expected.
+const RANGE_WORDS: [&str; 15] = [
+    "range",
+    "must",
+    "allowed",
+    "possible values",
+    "available",
+    "need",
+    "expected",
+    "at least",
+    "applies to",
+    "plain name",
+    "is not in",
+    "non-negative",
+    "does not exist",
+    "cannot open",
+    "without --resume",
+];
+
+#[test]
+fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+    let fx = fixtures();
+    let wheel = data
+        .join("wheels/ns_intercity_920.json")
+        .display()
+        .to_string();
+    let demo = data.join("scenarios/demo.json").display().to_string();
+    let case = data.join("scenarios/case3-ci.json").display().to_string();
+    let s = fx.join("s.csv").display().to_string();
+    let header = fx.join("header.csv").display().to_string();
+    let empty = fx.join("empty.csv").display().to_string();
+    let bad_json = fx.join("bad.json").display().to_string();
+    let run = fx.join("run").display().to_string();
+    let missing = fx.join("missing.json").display().to_string();
+    // (arguments, exit code, words the message must hold besides a range word)
+    let rows: Vec<(Vec<&str>, i32, Vec<&str>)> = vec![
+        // psd
+        (
+            vec![
+                "psd",
+                "--csv",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--nperseg",
+                "1",
+            ],
+            2,
+            vec!["nperseg"],
+        ),
+        (
+            vec![
+                "psd",
+                "--csv",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--nperseg",
+                "0",
+            ],
+            2,
+            vec!["nperseg"],
+        ),
+        (
+            vec![
+                "psd",
+                "--csv",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--nperseg",
+                "99999",
+            ],
+            2,
+            vec!["nperseg"],
+        ),
+        (
+            vec![
+                "psd",
+                "--csv",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--overlap",
+                "1",
+            ],
+            2,
+            vec!["overlap"],
+        ),
+        (
+            vec![
+                "psd",
+                "--csv",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--overlap",
+                "-0.5",
+            ],
+            2,
+            vec!["overlap"],
+        ),
+        (
+            vec![
+                "psd",
+                "--csv",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--peak-fmax",
+                "20000",
+            ],
+            2,
+            vec!["--peak-fmax"],
+        ),
+        (
+            vec![
+                "psd",
+                "--csv",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--peak-fmin",
+                "-5",
+            ],
+            2,
+            vec!["--peak-fmin"],
+        ),
+        (
+            vec![
+                "psd", "--csv", &s, "--column", "x_m", "--out", "o", "--peaks", "0",
+            ],
+            2,
+            vec!["--peaks"],
+        ),
+        (
+            vec![
+                "psd",
+                "--csv",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--min-separation-hz",
+                "-1",
+            ],
+            2,
+            vec!["--min-separation-hz"],
+        ),
+        (
+            vec![
+                "psd", "--csv", &s, "--column", "x_m", "--out", "o", "--window", "kaiser",
+            ],
+            2,
+            vec!["window"],
+        ),
+        (
+            vec![
+                "psd",
+                "--csv",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--detrend",
+                "quadratic",
+            ],
+            2,
+            vec!["detrend"],
+        ),
+        (
+            vec![
+                "psd",
+                "--csv",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--scaling",
+                "power",
+            ],
+            2,
+            vec!["scaling"],
+        ),
+        (
+            vec![
+                "psd", "--csv", &s, "--column", "x_m", "--out", "o", "--rank", "size",
+            ],
+            2,
+            vec!["rank"],
+        ),
+        (
+            vec!["psd", "--csv", &s, "--column", "y", "--out", "o"],
+            2,
+            vec!["s.csv", "available columns: time_s, x_m"],
+        ),
+        (
+            vec!["psd", "--csv", &empty, "--column", "x_m", "--out", "o"],
+            2,
+            vec!["empty.csv", "header"],
+        ),
+        (
+            vec!["psd", "--csv", &header, "--column", "x_m", "--out", "o"],
+            2,
+            vec!["header.csv", "samples"],
+        ),
+        (
+            vec!["psd", "--csv", &missing, "--column", "x_m", "--out", "o"],
+            2,
+            vec!["missing.json"],
+        ),
+        // cwt and wav
+        (
+            vec![
+                "cwt", "--csv", &s, "--column", "x_m", "--out", "o", "--fmin", "100", "--fmax",
+                "9000",
+            ],
+            2,
+            vec!["fmax"],
+        ),
+        (
+            vec![
+                "cwt", "--csv", &s, "--column", "x_m", "--out", "o", "--fmin", "-1", "--fmax",
+                "1000",
+            ],
+            2,
+            vec!["fmin"],
+        ),
+        (
+            vec![
+                "cwt", "--csv", &s, "--column", "x_m", "--out", "o", "--fmin", "100", "--fmax",
+                "1000", "--voices", "0",
+            ],
+            2,
+            vec!["voices"],
+        ),
+        (
+            vec![
+                "cwt",
+                "--csv",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--fmin",
+                "100",
+                "--fmax",
+                "1000",
+                "--time-stride",
+                "0",
+            ],
+            2,
+            vec!["stride"],
+        ),
+        (
+            vec![
+                "wav", "--csv", &s, "--column", "x_m", "--out", "o.wav", "--rate", "0",
+            ],
+            2,
+            vec!["rate"],
+        ),
+        (
+            vec![
+                "wav", "--csv", &s, "--column", "x_m", "--out", "o.wav", "--rate", "-44100",
+            ],
+            2,
+            vec!["rate"],
+        ),
+        (
+            vec!["wav", "--csv", &s, "--column", "nope", "--out", "o.wav"],
+            2,
+            vec!["nope"],
+        ),
+        // identify, check-modes, growth, report
+        (
+            vec!["identify", &run, "--fmax", "20000", "--out", "o"],
+            2,
+            vec!["--fmax", "Nyquist"],
+        ),
+        (
+            vec!["identify", &run, "--fmin", "-3", "--out", "o"],
+            2,
+            vec!["fmin"],
+        ),
+        (
+            vec!["identify", &run, "--peaks", "0", "--out", "o"],
+            2,
+            vec!["--peaks"],
+        ),
+        (
+            vec!["identify", &run, "--resolution-hz", "-5", "--out", "o"],
+            2,
+            vec!["resolution"],
+        ),
+        (
+            vec!["identify", &run, "--signal", "nothing", "--out", "o"],
+            2,
+            vec!["nothing"],
+        ),
+        (
+            vec!["identify", &missing, "--out", "o"],
+            2,
+            vec!["RUN_DIR", "histories.csv"],
+        ),
+        (
+            vec!["check-modes", &run, "--require", "0,x"],
+            2,
+            vec!["--require"],
+        ),
+        (
+            vec!["check-modes", &run, "--require", "0,3", "--fmax", "99999"],
+            2,
+            vec!["--fmax"],
+        ),
+        (
+            vec!["growth", &run, "--half-width", "0", "--out", "o"],
+            2,
+            vec!["half"],
+        ),
+        (
+            vec!["growth", &run, "--window-ms", "-4", "--out", "o"],
+            2,
+            vec!["--window-ms"],
+        ),
+        (
+            vec!["growth", &run, "--mode", "3", "--out", "o"],
+            2,
+            vec!["--mode"],
+        ),
+        (
+            vec!["report", &run, "--name", "../escape", "--reports", "r"],
+            2,
+            vec!["--name"],
+        ),
+        (
+            vec!["report", &run, "--name", "a/b", "--reports", "r"],
+            2,
+            vec!["--name"],
+        ),
+        (
+            vec!["report", &run, "--name", "", "--reports", "r"],
+            2,
+            vec!["--name"],
+        ),
+        // profile
+        (
+            vec!["profile", "s1002", "--step-mm", "0"],
+            2,
+            vec!["--step-mm"],
+        ),
+        (
+            vec!["profile", "s1002", "--step-mm", "-1"],
+            2,
+            vec!["--step-mm"],
+        ),
+        (
+            vec!["profile", "gap", "--wheel-y-mm", "-40"],
+            2,
+            vec!["--wheel-y-mm"],
+        ),
+        (
+            vec!["profile", "contact", "--from-mm", "5", "--to-mm", "1"],
+            2,
+            vec!["--to-mm"],
+        ),
+        (
+            vec!["profile", "gap", "--wheel-radius-m", "0"],
+            2,
+            vec!["--wheel-radius-m"],
+        ),
+        (vec!["profile", "u60"], 2, vec!["u60"]),
+        // kalker
+        (vec!["kalker", "hertz", "--fn", "-1000"], 2, vec!["fn"]),
+        (
+            vec!["kalker", "hertz", "--fn", "100000", "--nu", "0.7"],
+            2,
+            vec!["nu"],
+        ),
+        (
+            vec!["kalker", "hertz", "--fn", "100000", "--e", "-1"],
+            2,
+            vec!["e"],
+        ),
+        (
+            vec!["kalker", "creep", "--fn", "100000", "--mu", "-0.3"],
+            2,
+            vec!["mu"],
+        ),
+        (
+            vec![
+                "kalker", "creep", "--fn", "100000", "--mu", "0.3", "--grid", "1",
+            ],
+            2,
+            vec!["grid"],
+        ),
+        (
+            vec!["kalker", "hertz", "--fn", "100000", "--wheel-y", "0.05"],
+            2,
+            vec!["wheel-y"],
+        ),
+        // mesh, modes, axisym
+        (
+            vec!["mesh", "--wheel", &missing, "--out", "o.vtu"],
+            2,
+            vec!["missing.json"],
+        ),
+        (
+            vec!["mesh", "--wheel", &bad_json, "--out", "o.vtu"],
+            2,
+            vec!["bad.json"],
+        ),
+        (
+            vec!["mesh", "--wheel", &wheel, "--out", "o.stl"],
+            2,
+            vec!["o.stl"],
+        ),
+        (
+            vec!["modes", "--wheel", &wheel, "--fmax-hz", "-10", "--out", "o"],
+            2,
+            vec!["--fmax-hz"],
+        ),
+        (
+            vec![
+                "modes",
+                "--wheel",
+                &wheel,
+                "--element-size-mm",
+                "1",
+                "--out",
+                "o",
+            ],
+            2,
+            vec!["--element-size-mm"],
+        ),
+        (
+            vec!["modes", "--wheel", &wheel, "--slices", "0", "--out", "o"],
+            2,
+            vec!["slices"],
+        ),
+        (
+            vec![
+                "modes",
+                "--wheel",
+                &wheel,
+                "--density-kg-per-m3",
+                "-7850",
+                "--out",
+                "o",
+            ],
+            2,
+            vec!["--density-kg-per-m3"],
+        ),
+        (
+            vec![
+                "modes",
+                "--wheel",
+                &wheel,
+                "--density-kg-per-m3",
+                "7850",
+                "--out",
+                "o",
+            ],
+            2,
+            vec!["--density-kg-per-m3", "--mesh"],
+        ),
+        (
+            vec!["modes", "--wheel", &wheel, "--clamp", "q<1", "--out", "o"],
+            2,
+            vec!["clamp"],
+        ),
+        (
+            vec![
+                "modes",
+                "--wheel",
+                &wheel,
+                "--revolved-sectors",
+                "2",
+                "--out",
+                "o",
+            ],
+            2,
+            vec!["sectors"],
+        ),
+        (
+            vec![
+                "axisym",
+                "--wheel",
+                &wheel,
+                "--harmonics",
+                "5..2",
+                "--out",
+                "o",
+            ],
+            2,
+            vec!["harmonics"],
+        ),
+        (
+            vec!["axisym", "--wheel", &wheel, "--fmax-hz", "0", "--out", "o"],
+            2,
+            vec!["fmax"],
+        ),
+        (
+            vec![
+                "axisym",
+                "--wheel",
+                &wheel,
+                "--element-size-mm",
+                "0.01",
+                "--out",
+                "o",
+            ],
+            2,
+            vec!["element-size"],
+        ),
+        (
+            vec!["axisym", "--wheel", &missing, "--out", "o"],
+            2,
+            vec!["missing.json"],
+        ),
+        // simulate, bench
+        (
+            vec!["simulate", "--scenario", &missing, "--out", "o"],
+            2,
+            vec!["missing.json"],
+        ),
+        (
+            vec![
+                "simulate",
+                "--scenario",
+                &case,
+                "--end-time-ms",
+                "-1",
+                "--out",
+                "o",
+            ],
+            2,
+            vec!["--end-time-ms"],
+        ),
+        (
+            vec![
+                "simulate",
+                "--scenario",
+                &case,
+                "--end-time-ms",
+                "5000",
+                "--out",
+                "o",
+            ],
+            2,
+            vec!["--end-time-ms"],
+        ),
+        (
+            vec!["simulate", "--scenario", &case, "--resume", "--out", "o"],
+            2,
+            vec!["--resume", "checkpoint"],
+        ),
+        (
+            vec!["simulate", "--scenario", &demo, "--out", "o"],
+            2,
+            vec!["demo.json"],
+        ),
+        (
+            vec!["bench", "rolling", "--scenario", &case, "--steps", "0"],
+            2,
+            vec!["--steps"],
+        ),
+        (
+            vec!["bench", "modal", "--mtx", &missing, "--slices", "0"],
+            2,
+            vec!["slices"],
+        ),
+    ];
+    assert!(rows.len() >= 60, "{} rows", rows.len());
+    let mut failures = Vec::new();
+    for (k, (args, code, words)) in rows.iter().enumerate() {
+        let cwd = std::env::temp_dir().join(format!("squeal_bad_input_{k}_{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&cwd);
+        std::fs::create_dir_all(&cwd).unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_squeal"))
+            .args(args)
+            .current_dir(&cwd)
+            .output()
+            .expect("run");
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        let mut problems = Vec::new();
+        if out.status.code() != Some(*code) {
+            problems.push(format!("exit {:?}, expected {code}", out.status.code()));
+        }
+        for w in words {
+            if !err.contains(w) {
+                problems.push(format!("message lacks `{w}`"));
+            }
+        }
+        // I/O errors name the file; input errors also state what is allowed.
+        if *code == 2 && !RANGE_WORDS.iter().any(|w| err.contains(w)) {
+            problems.push("message states no allowed range or values".into());
+        }
+        let left: Vec<String> = std::fs::read_dir(&cwd)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().to_string())
+            .collect();
+        if !left.is_empty() {
+            problems.push(format!("wrote {left:?}"));
+        }
+        if err.contains("panicked") {
+            problems.push("panicked".into());
+        }
+        if !problems.is_empty() {
+            failures.push(format!(
+                "{args:?}: {} | {}",
+                problems.join("; "),
+                err.trim()
+            ));
+        }
+        let _ = std::fs::remove_dir_all(&cwd);
+    }
+    let _ = std::fs::remove_dir_all(&fx);
+    assert!(
+        failures.is_empty(),
+        "{} of {} bad inputs misbehaved:\n{}",
+        failures.len(),
+        rows.len(),
+        failures.join("\n")
+    );
+}
