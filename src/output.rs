@@ -127,6 +127,32 @@ impl Drop for StagedDir {
     }
 }
 
+/// Writes the file `path` through `write` on a hidden temporary sibling, renamed onto `path`
+/// when `write` succeeds and removed when it fails: a failed write leaves no partial file and
+/// does not touch an existing one.
+pub fn write_file_staged<T>(path: &Path, write: impl FnOnce(&Path) -> Result<T>) -> Result<T> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_else(|| "output".to_string());
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
+    let staging = parent.join(format!(".{name}.partial-{}", std::process::id()));
+    match write(&staging) {
+        Ok(value) => {
+            std::fs::rename(&staging, path).map_err(|e| Error::io(path, e))?;
+            Ok(value)
+        }
+        Err(e) => {
+            let _ = std::fs::remove_file(&staging);
+            Err(e)
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -196,6 +222,21 @@ mod tests {
         assert!(!target.join("keep.txt").exists() && target.join("b.txt").exists());
         let names: Vec<_> = std::fs::read_dir(&root).unwrap().collect();
         assert_eq!(names.len(), 1, "only the output folder remains");
+        // A staged file: a failing writer leaves the old file as it was and no stage.
+        let file = root.join("f.txt");
+        std::fs::write(&file, "old").unwrap();
+        let failed: Result<()> = write_file_staged(&file, |p| {
+            std::fs::write(p, "half").unwrap();
+            Err(Error::Numerical("writer failed".into()))
+        });
+        assert!(failed.is_err());
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "old");
+        write_file_staged(&file, |p| {
+            std::fs::write(p, "new").map_err(|e| Error::io(p, e))
+        })
+        .unwrap();
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "new");
+        assert_eq!(std::fs::read_dir(&root).unwrap().count(), 2);
         let _ = std::fs::remove_dir_all(&root);
     }
 }

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 use squeal::growth::{band_growth, bands_for_modes, read_column, ridges_csv, to_markdown};
 use squeal::identify::{parse_mode_label, ModeRef};
+use squeal::output::{Commit, StagedDir};
 use squeal::{Error, Result};
 
 /// Arguments of `squeal growth`.
@@ -73,9 +74,11 @@ pub fn run(args: GrowthArgs) -> Result<()> {
     let md = to_markdown(&g);
     println!("{md}");
     let out = args.out.unwrap_or_else(|| args.run_dir.clone());
-    std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
+    // Written beside the output folder and moved into it when complete.
+    let stage = StagedDir::new(&out)?;
+    let dir = stage.path().to_path_buf();
     let write = |name: &str, text: String| -> Result<()> {
-        let p = out.join(name);
+        let p = dir.join(name);
         std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
     };
     write("growth.md", md)?;
@@ -85,5 +88,6 @@ pub fn run(args: GrowthArgs) -> Result<()> {
     )?;
     write("ridges.csv", ridges_csv(&g))?;
     println!("wrote {}/growth.{{md,json}} and ridges.csv", out.display());
+    stage.commit(Commit::Merge)?;
     Ok(())
 }

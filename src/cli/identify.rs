@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 use squeal::analysis::{analyse_run, AnalysisOptions};
 use squeal::identify::{missing_required, parse_required, to_csv, to_markdown, Tolerance};
+use squeal::output::{Commit, StagedDir};
 use squeal::{Error, Result};
 
 /// Options shared by both commands.
@@ -114,9 +115,11 @@ pub fn run_identify(args: IdentifyArgs) -> Result<()> {
     );
     println!("{md}");
     let out = args.out.unwrap_or_else(|| args.common.run_dir.clone());
-    std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
+    // Written beside the output folder and moved into it when complete.
+    let stage = StagedDir::new(&out)?;
+    let dir = stage.path().to_path_buf();
     let write = |name: &str, text: String| -> Result<()> {
-        let p = out.join(name);
+        let p = dir.join(name);
         std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
     };
     write("identification.md", md)?;
@@ -126,6 +129,7 @@ pub fn run_identify(args: IdentifyArgs) -> Result<()> {
         serde_json::to_string_pretty(&analysis.identifications)
             .map_err(|e| Error::Numerical(format!("JSON encoding: {e}")))?,
     )?;
+    stage.commit(Commit::Merge)?;
     println!("wrote {}/identification.{{md,csv,json}}", out.display());
     Ok(())
 }

@@ -7,6 +7,7 @@ use squeal::geometry::wheel::WheelSpec;
 use squeal::mesh::quality::dilatational_wave_speed;
 use squeal::mesh::wheel::{wheel_mesh, WheelPlacement};
 use squeal::mesh::{gmsh, vtu, Mesh};
+use squeal::output::write_file_staged;
 use squeal::scenario::LoadedScenario;
 use squeal::{Error, Result};
 
@@ -137,7 +138,9 @@ pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
     }
     let text = serde_json::to_string_pretty(value)
         .map_err(|e| Error::Numerical(format!("JSON encoding: {e}")))?;
-    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+    write_file_staged(path, |p| {
+        std::fs::write(p, text).map_err(|e| Error::io(p, e))
+    })
 }
 
 /// Write a mesh by extension (.vtu or .msh).
@@ -145,8 +148,13 @@ pub fn write_mesh(mesh: &Mesh, out: &Path) -> Result<()> {
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
-    match out.extension().and_then(|e| e.to_str()) {
-        Some("msh") => gmsh::write(mesh, out),
-        _ => vtu::write(mesh, out, &[]),
-    }
+    // The format is chosen by the final name; the file is written beside it and renamed.
+    let gmsh_format = out.extension().and_then(|e| e.to_str()) == Some("msh");
+    write_file_staged(out, |p| {
+        if gmsh_format {
+            gmsh::write(mesh, p)
+        } else {
+            vtu::write(mesh, p, &[])
+        }
+    })
 }

@@ -5,6 +5,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
+use squeal::output::{write_file_staged, Commit, StagedDir};
 use squeal::signal::{
     find_spectral_peaks, morlet_cwt, series::TimeSeries, wav::write_wav, welch, Detrend,
     PeakRanking, PeakSearch, PsdScaling, Scales, WelchParams, Window,
@@ -136,10 +137,6 @@ pub struct WavArgs {
     pub out: PathBuf,
 }
 
-fn create_dir(dir: &Path) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))
-}
-
 fn create_file(path: &Path) -> Result<std::io::BufWriter<std::fs::File>> {
     Ok(std::io::BufWriter::new(
         std::fs::File::create(path).map_err(|e| Error::io(path, e))?,
@@ -226,9 +223,11 @@ pub fn run_psd(args: PsdArgs) -> Result<()> {
     };
     let peaks = find_spectral_peaks(&psd.frequency_hz, &psd.psd_per_hz, &search)?;
 
-    create_dir(&args.out)?;
+    // Written beside the output folder and moved into it when complete.
+    let stage = StagedDir::new(&args.out)?;
+    let dir = stage.path().to_path_buf();
     let unit = args.input.unit();
-    let psd_path = args.out.join("psd.csv");
+    let psd_path = dir.join("psd.csv");
     let mut file = create_file(&psd_path)?;
     let value_header = match params.scaling {
         PsdScaling::Density => format!("psd_{unit}^2_per_hz"),
@@ -241,7 +240,7 @@ pub fn run_psd(args: PsdArgs) -> Result<()> {
     }
     file.flush().map_err(io)?;
     write_json(
-        &args.out.join("peaks.json"),
+        &dir.join("peaks.json"),
         &serde_json::json!({
             "source": args.input.csv.display().to_string(),
             "column": args.input.column,
@@ -271,6 +270,7 @@ pub fn run_psd(args: PsdArgs) -> Result<()> {
             peak.refined_frequency_hz, peak.psd, peak.prominence
         );
     }
+    stage.commit(Commit::Merge)?;
     Ok(())
 }
 
@@ -285,10 +285,12 @@ pub fn run_cwt(args: CwtArgs) -> Result<()> {
     let cwt = morlet_cwt(&series.values, series.sample_rate_hz, &scales)
         .map_err(|e| args.input.in_context(e))?;
 
-    create_dir(&args.out)?;
+    // Written beside the output folder and moved into it when complete.
+    let stage = StagedDir::new(&args.out)?;
+    let dir = stage.path().to_path_buf();
     let unit = args.input.unit();
     let time_s = |n: usize| series.start_time_s + n as f64 / series.sample_rate_hz;
-    let power_path = args.out.join("cwt_power.csv");
+    let power_path = dir.join("cwt_power.csv");
     let mut file = create_file(&power_path)?;
     let io = |e| Error::io(&power_path, e);
     writeln!(file, "time_s,frequency_hz,power_{unit}^2").map_err(io)?;
@@ -299,7 +301,7 @@ pub fn run_cwt(args: CwtArgs) -> Result<()> {
     }
     file.flush().map_err(io)?;
 
-    let coi_path = args.out.join("cwt_coi.csv");
+    let coi_path = dir.join("cwt_coi.csv");
     let mut file = create_file(&coi_path)?;
     let io = |e| Error::io(&coi_path, e);
     writeln!(file, "time_s,coi_period_s,coi_frequency_hz").map_err(io)?;
@@ -309,7 +311,7 @@ pub fn run_cwt(args: CwtArgs) -> Result<()> {
     }
     file.flush().map_err(io)?;
     write_json(
-        &args.out.join("cwt.json"),
+        &dir.join("cwt.json"),
         &serde_json::json!({
             "source": args.input.csv.display().to_string(),
             "column": args.input.column,
@@ -332,14 +334,17 @@ pub fn run_cwt(args: CwtArgs) -> Result<()> {
         args.fmax,
         args.out.display()
     );
+    stage.commit(Commit::Merge)?;
     Ok(())
 }
 
 /// `squeal wav`.
 pub fn run_wav(args: WavArgs) -> Result<()> {
     let series = args.input.read()?;
-    let count = write_wav(&args.out, &series.values, series.sample_rate_hz, args.rate)
-        .map_err(|e| args.input.in_context(e))?;
+    let count = write_file_staged(&args.out, |p| {
+        write_wav(p, &series.values, series.sample_rate_hz, args.rate)
+    })
+    .map_err(|e| args.input.in_context(e))?;
     println!(
         "wav: {count} samples at {} Hz -> {}",
         args.rate,
