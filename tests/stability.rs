@@ -167,6 +167,7 @@ fn falling_friction_oscillator_grows_at_minus_c_plus_n_slope_over_2m() {
         let wheel = ModalBody {
             dofs: vec![dof(Body::Wheel, 0, omega, zeta, [1.0 / m.sqrt(), 0.0, 0.0])],
             gyroscopic: Vec::new(),
+            damping_coupling: Vec::new(),
         };
         let mut law = TangentialLaw::coulomb(n, 1.0e9, 10.0, [-1.0, 0.0], 0.4).unwrap();
         law.friction_slope_s_per_m = slope;
@@ -182,6 +183,223 @@ fn falling_friction_oscillator_grows_at_minus_c_plus_n_slope_over_2m() {
         assert!(
             (got - want).abs() <= 1e-9 * want.abs().max(1.0),
             "slope {slope}: {got} vs {want}"
+        );
+    }
+}
+
+fn default_wheel() -> squeal::geometry::wheel::WheelSpec {
+    squeal::input::read_json(std::path::Path::new("data/wheels/ns_intercity_920.json")).unwrap()
+}
+
+#[test]
+fn wheel_modes_are_mass_normalised_and_sampled_on_the_tread() {
+    use squeal::stability::wheel::{modal_mass, WheelDamping, WheelModes};
+    let modes = WheelModes::solve(&default_wheel(), 5000.0).unwrap();
+    println!(
+        "wheel: {} modes below 5 kHz, mass {:.1} kg, solved in {:.2} s",
+        modes.modes.len(),
+        modes.mass_kg,
+        modes.solve_seconds
+    );
+    // x^T M x = 1 for every mode, re-integrated by quadrature over the section: the 3D modes
+    // are mass-normalised (to the solver's rounding; 1e-9).
+    for m in &modes.modes {
+        let mm = modal_mass(&modes.model, m);
+        assert!(
+            (mm - 1.0).abs() < 1e-9,
+            "{} Hz: modal mass {mm}",
+            m.frequency_hz
+        );
+    }
+    let body = modes
+        .contact_body(1.2, 5000.0, &WheelDamping::default(), None)
+        .unwrap();
+    let pairs = modes.modes.iter().filter(|m| m.harmonic >= 1).count();
+    assert_eq!(body.dofs.len(), modes.modes.len() + pairs);
+    // The (0,3) mode moves the tread axially far more than radially, the (0,0) umbrella mode
+    // too; a radial mode the other way.
+    let find = |f: squeal::modal::mode::ModeFamily, m: u32, n: u32| {
+        body.dofs
+            .iter()
+            .find(|d| d.tag.family == Some(f) && d.tag.circles_diameters == Some((m, n)))
+            .unwrap()
+    };
+    use squeal::modal::mode::ModeFamily::*;
+    let a03 = find(Axial, 0, 3);
+    assert!(a03.contact_shape[1].abs() > 3.0 * a03.contact_shape[2].abs());
+    assert!((a03.tag.frequency_hz - 1011.0).abs() < 5.0);
+    let r = body
+        .dofs
+        .iter()
+        .find(|d| d.tag.family == Some(Radial) && d.tag.circles_diameters.unwrap().1 >= 2)
+        .unwrap();
+    assert!(
+        r.contact_shape[2].abs() > r.contact_shape[1].abs(),
+        "{:?}",
+        r.tag
+    );
+}
+
+#[test]
+fn timoshenko_elements_match_the_simply_supported_beam_closed_form() {
+    use squeal::stability::rail::{timoshenko_element, RailSection};
+    // Simply supported Timoshenko beam, w = W sin(k x), theta = T cos(k x), k = j pi / L:
+    // det [[kGA k^2 - rho A w^2, -kGA k], [-kGA k, EI k^2 + kGA - rho I w^2]] = 0, a quadratic
+    // in w^2 whose smaller root is the bending mode (Timoshenko 1921).
+    let r = RailSection::UIC54;
+    let g = r.youngs_modulus_pa / (2.0 * (1.0 + r.poisson_ratio));
+    let (ei, kga) = (
+        r.youngs_modulus_pa * r.second_moment_vertical_m4,
+        r.shear_coefficient_vertical * g * r.area_m2,
+    );
+    let (rho_a, rho_i) = (
+        r.density_kg_per_m3 * r.area_m2,
+        r.density_kg_per_m3 * r.second_moment_vertical_m4,
+    );
+    let length = 0.6; // one sleeper bay: its modes span 0.3-10 kHz
+    let elements = 60; // the rail model's 10 mm elements
+    let h = length / elements as f64;
+    let n = 2 * (elements + 1);
+    let mut k = faer::Mat::<f64>::zeros(n, n);
+    let mut m = faer::Mat::<f64>::zeros(n, n);
+    for e in 0..elements {
+        let (ke, me) = timoshenko_element(ei, kga, rho_a, rho_i, h);
+        for a in 0..4 {
+            for b in 0..4 {
+                k[(2 * e + a, 2 * e + b)] += ke[a][b];
+                m[(2 * e + a, 2 * e + b)] += me[a][b];
+            }
+        }
+    }
+    // Simple supports: w = 0 at both ends (dofs 0 and n - 2).
+    let free: Vec<usize> = (0..n).filter(|&d| d != 0 && d != n - 2).collect();
+    let kf = faer::Mat::<f64>::from_fn(free.len(), free.len(), |i, j| k[(free[i], free[j])]);
+    let mf = faer::Mat::<f64>::from_fn(free.len(), free.len(), |i, j| m[(free[i], free[j])]);
+    // K x = w^2 M x through M = L L^T: L^-1 K L^-T is symmetric.
+    let l = mf.llt(faer::Side::Lower).unwrap().L().to_owned();
+    use faer::linalg::solvers::DenseSolveCore;
+    let linv = l.as_ref().partial_piv_lu().inverse();
+    let sym = &linv * &kf * linv.transpose();
+    let sym = faer::Mat::<f64>::from_fn(sym.nrows(), sym.ncols(), |i, j| {
+        0.5 * (sym[(i, j)] + sym[(j, i)])
+    });
+    let mut fe: Vec<f64> = sym
+        .self_adjoint_eigenvalues(faer::Side::Lower)
+        .unwrap()
+        .iter()
+        .map(|&l2| l2.max(0.0).sqrt() / std::f64::consts::TAU)
+        .collect();
+    fe.sort_by(f64::total_cmp);
+    for j in 1..=4 {
+        let kk = j as f64 * std::f64::consts::PI / length;
+        // a w^4 - b w^2 + c = 0.
+        let a = rho_a * rho_i;
+        let b = rho_a * (ei * kk * kk + kga) + rho_i * kga * kk * kk;
+        let c = kga * kk * kk * ei * kk * kk;
+        let w2 = (b - (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
+        let exact = w2.sqrt() / std::f64::consts::TAU;
+        // The FE spectrum also holds the shear branch (from sqrt(kGA / rho I) = 5.6 kHz, the
+        // uniform rotation with w = 0): compare with the nearest FE frequency.
+        let got = *fe
+            .iter()
+            .min_by(|a, b| (*a - exact).abs().total_cmp(&(*b - exact).abs()))
+            .unwrap();
+        println!("simply supported bay, mode {j}: FE {got:.1} Hz, closed form {exact:.1} Hz");
+        // Linear elements converge as h^2: (k h)^2 / 12 with k h = j pi / 60 is 0.02 % (j = 1)
+        // to 0.4 % (j = 4) for the Euler part; 0.5 % bounds it.
+        assert!(
+            (got / exact - 1.0).abs() < 5e-3,
+            "mode {j}: {got} vs {exact}"
+        );
+    }
+}
+
+fn case3_track() -> (
+    squeal::rolling::case::LoadedCase,
+    squeal::stability::rail::Track,
+) {
+    let loaded =
+        squeal::rolling::case::load_case(std::path::Path::new("data/scenarios/case3-demo.json"))
+            .unwrap();
+    let track = squeal::stability::rail::Track::from_case(&loaded).unwrap();
+    (loaded, track)
+}
+
+#[test]
+fn rail_modal_model_matches_the_direct_frequency_response_below_5_khz() {
+    use squeal::stability::rail::Direction;
+    use squeal::stability::rail_modes::{rail_modal_model, relative_error};
+    let (_, track) = case3_track();
+    let x = 2.0; // the demo wheel's start, 0.1 m before a sleeper
+                 // 500 frequencies 50-5000 Hz, none of them a sample the model was built from (it is built
+                 // from the beam's modes and one static solve).
+    let check_f: Vec<f64> = (0..500).map(|i| 50.0 + 9.9 * i as f64).collect();
+    for d in Direction::ALL {
+        let t0 = std::time::Instant::now();
+        // Modes to 1.5 fmax explicitly, the rest lumped by octave (the stability default).
+        let model = rail_modal_model(&track, d, x, 7_500.0).unwrap();
+        let t_modal = t0.elapsed().as_secs_f64();
+        let h = track.receptance(d, x, &check_f).unwrap();
+        let (max, rms) = relative_error(&model, &check_f, &h);
+        let (worst_f, worst_db) = check_f
+            .iter()
+            .zip(&h)
+            .map(|(&f, hi)| (f, 20.0 * (model.receptance(f).norm() / hi.norm()).log10()))
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+            .unwrap();
+        println!(
+            "rail {}: {} terms; 50-5000 Hz: |dH|/|H| max {:.2} % rms {:.2} %, largest level error {:+.2} dB at {:.0} Hz (modal model {:.2} s)",
+            d.name(),
+            model.modes.len(),
+            100.0 * max,
+            100.0 * rms,
+            worst_db,
+            worst_f,
+            t_modal
+        );
+        // rms 3 %: the truncated modes' dynamic part (lumped by octave) and the damping coupling
+        // between kept and lumped modes; the largest errors sit at antiresonances, where |H| is
+        // smallest, and stay below 1.5 dB.
+        assert!(rms < 0.03, "{}: rms {rms}", d.name());
+        assert!(worst_db.abs() < 1.5, "{}: {worst_db} dB", d.name());
+    }
+}
+
+#[test]
+fn case3_operating_point_from_the_case_file() {
+    use squeal::stability::model::{Settings, StabilityModel};
+    use squeal::stability::operating::from_case;
+    let (loaded, _) = case3_track();
+    let t0 = std::time::Instant::now();
+    let model = StabilityModel::build(&loaded, Settings::default()).unwrap();
+    let t_build = t0.elapsed().as_secs_f64();
+    let op = from_case(
+        &loaded,
+        model.wheel.mass_kg,
+        model.wheel.nominal_radius_m,
+        None,
+        model.material,
+    )
+    .unwrap();
+    println!("{op:#?}");
+    let (rail, _) = model.rail(op.wheel_x_m).unwrap();
+    let wheel = model.wheel_body(&op).unwrap();
+    let a = model.analyse(&op, &wheel, &rail).unwrap();
+    println!(
+        "build {t_build:.2} s; point {:.3} s with {} coordinates; law {:#?}",
+        a.seconds, a.coordinates, a.law
+    );
+    for e in a.eigen.iter().filter(|e| e.growth_rate_per_s > -5.0) {
+        println!(
+            "{:8.1} Hz  sigma {:+9.3} /s  {}",
+            e.frequency_hz,
+            e.growth_rate_per_s,
+            e.participation
+                .iter()
+                .take(3)
+                .map(|p| format!("{} {:.2}", p.tag.label, p.share))
+                .collect::<Vec<_>>()
+                .join(", ")
         );
     }
 }

@@ -6,4 +6,5 @@ pub mod kalker_charts;
 pub mod modal_chart;
 pub mod patch_maps;
 pub mod run_report;
+pub mod stability_charts;
 pub mod table3;

@@ -17,6 +17,13 @@
 //! couples the wheel's axial and radial motion (de Beer, Janssens, Kooijman, J. Sound Vib. 267
 //! (2003) 497-507). docs/stability.md states the method, its checks and what is left out.
 
+pub mod banded;
 pub mod contact;
+pub mod model;
+pub mod operating;
+pub mod output;
+pub mod rail;
+pub mod rail_modes;
+pub mod sweep;
 pub mod system;
 pub mod wheel;

@@ -101,12 +101,16 @@ pub struct ModalBody {
     pub dofs: Vec<ModalDof>,
     /// Skew couplings between coordinates of this body.
     pub gyroscopic: Vec<Gyroscopic>,
+    /// Off-diagonal damping between coordinates of this body `(i, j, c)` (N s/m per unit
+    /// coordinates; a symmetric matrix lists both orders): a body whose damping is not
+    /// proportional to its modes (the rail's pads).
+    pub damping_coupling: Vec<(usize, usize, f64)>,
 }
 
 impl ModalBody {
     /// Receptance at the contact point, `H(s) = sum_j phi_j phi_j^T / (s^2 + 2 zeta_j omega_j
-    /// s + omega_j^2)` (3 x 3, m/N), for a real or complex `s`; gyroscopic terms are left out
-    /// (used for bodies without them).
+    /// s + omega_j^2)` (3 x 3, m/N), for a real or complex `s`; gyroscopic terms and damping
+    /// couplings are left out (used for bodies without them).
     pub fn receptance(&self, s: faer::c64) -> [[faer::c64; 3]; 3] {
         let mut h = [[faer::c64::new(0.0, 0.0); 3]; 3];
         for d in &self.dofs {
@@ -218,6 +222,9 @@ impl CoupledSystem {
             for g in &body.gyroscopic {
                 c[(offset + g.i, offset + g.j)] -= g.coefficient_rad_per_s;
                 c[(offset + g.j, offset + g.i)] += g.coefficient_rad_per_s;
+            }
+            for &(i, j, d) in &body.damping_coupling {
+                c[(offset + i, offset + j)] += d;
             }
         }
         // B^T K_c B and B^T C_c B: first K_c B (3 x n), then the outer product with B.
