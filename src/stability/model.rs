@@ -36,6 +36,10 @@ pub struct Settings {
 /// against the direct solve (tests/stability.rs), with half the coordinates of 2 fmax.
 pub const RAIL_TRUNCATION_FACTOR: f64 = 1.5;
 
+/// The band the rail's beam model is meant for (Hz): above about 5 kHz the real rail's
+/// cross-section deforms (web bending, foot flapping), which a beam does not have.
+pub const RAIL_BAND_HZ: f64 = 5000.0;
+
 impl Default for Settings {
     fn default() -> Self {
         Settings {
@@ -117,7 +121,10 @@ impl StabilityModel {
 
     /// The rail's modal models and body with the wheel at `wheel_x_m` along the rail.
     pub fn rail(&self, wheel_x_m: f64) -> Result<(ModalBody, Vec<RailModalModel>)> {
-        let truncation = self.settings.rail_truncation_factor * self.settings.fmax_hz;
+        // The beam model stands for the rail below RAIL_BAND_HZ only (no cross-section
+        // deformation), so more rail modes would add coordinates, not accuracy.
+        let truncation =
+            self.settings.rail_truncation_factor * self.settings.fmax_hz.min(RAIL_BAND_HZ);
         let models: Vec<RailModalModel> = Direction::ALL
             .iter()
             .map(|&d| rail_modal_model(&self.track, d, wheel_x_m, truncation))
