@@ -298,7 +298,7 @@ pub fn lateral_onset_s(run_dir: &Path) -> Option<f64> {
     let path = run_dir.join("run.json");
     let record: serde_json::Value = read_json(&path).ok()?;
     let motion = record.get("settings")?.get("lateral_motion")?;
-    let motion: crate::rolling::lateral::LateralMotion =
+    let motion: crate::model::lateral::LateralMotion =
         serde_json::from_value(motion.clone()).ok()?;
     Some(motion.onset_s())
 }

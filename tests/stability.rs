@@ -247,14 +247,14 @@ fn timoshenko_elements_match_the_simply_supported_beam_closed_form() {
     // det [[kGA k^2 - rho A w^2, -kGA k], [-kGA k, EI k^2 + kGA - rho I w^2]] = 0, a quadratic
     // in w^2 whose smaller root is the bending mode (Timoshenko 1921).
     let r = RailSection::UIC54;
-    let g = r.youngs_modulus_pa / (2.0 * (1.0 + r.poisson_ratio));
+    let g = r.material.shear_modulus_pa();
     let (ei, kga) = (
-        r.youngs_modulus_pa * r.second_moment_vertical_m4,
+        r.material.youngs_modulus_pa * r.second_moment_vertical_m4,
         r.shear_coefficient_vertical * g * r.area_m2,
     );
     let (rho_a, rho_i) = (
-        r.density_kg_per_m3 * r.area_m2,
-        r.density_kg_per_m3 * r.second_moment_vertical_m4,
+        r.material.density_kg_per_m3 * r.area_m2,
+        r.material.density_kg_per_m3 * r.second_moment_vertical_m4,
     );
     let length = 0.6; // one sleeper bay: its modes span 0.3-10 kHz
     let elements = 60; // the rail model's 10 mm elements
@@ -315,11 +315,11 @@ fn timoshenko_elements_match_the_simply_supported_beam_closed_form() {
 }
 
 fn case3_track() -> (
-    squeal::rolling::case::LoadedCase,
+    squeal::model::case::LoadedCase,
     squeal::stability::rail::Track,
 ) {
     let loaded =
-        squeal::rolling::case::load_case(std::path::Path::new("data/scenarios/case3-demo.json"))
+        squeal::model::case::load_case(std::path::Path::new("data/scenarios/case3-demo.json"))
             .unwrap();
     let track = squeal::stability::rail::Track::from_case(&loaded).unwrap();
     (loaded, track)

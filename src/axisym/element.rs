@@ -42,34 +42,9 @@
 /// A 27 x 27 element matrix (9 nodes x (U_r, U_t, U_z)).
 pub type ElementMatrix = [[f64; 27]; 27];
 
-/// Isotropic linear elastic material in SI units.
-#[derive(Clone, Copy, Debug)]
-pub struct Material {
-    /// Young's modulus (Pa).
-    pub youngs_modulus_pa: f64,
-    /// Poisson's ratio.
-    pub poisson_ratio: f64,
-    /// Density (kg/m^3).
-    pub density_kg_per_m3: f64,
-}
-
-impl Material {
-    /// The 6 x 6 elasticity matrix in the strain order (rr, tt, zz, rz, rt, tz), engineering
-    /// shear strains: lambda + 2G on the normal diagonal, lambda off it, G on the shear diagonal.
-    pub fn d_matrix(&self) -> [[f64; 6]; 6] {
-        let (e, nu) = (self.youngs_modulus_pa, self.poisson_ratio);
-        let lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
-        let g = e / (2.0 * (1.0 + nu));
-        let mut d = [[0.0; 6]; 6];
-        for i in 0..3 {
-            for j in 0..3 {
-                d[i][j] = if i == j { lambda + 2.0 * g } else { lambda };
-            }
-            d[3 + i][3 + i] = g;
-        }
-        d
-    }
-}
+/// Isotropic linear elastic material: the crate's one material type (its `d_matrix` in the
+/// strain order rr, tt, zz, rz, rt, tz: three normal strains, then three engineering shears).
+pub use crate::material::Material;
 
 /// 3-point Gauss-Legendre rule on [-1, 1]: points and weights.
 const GAUSS3: [(f64, f64); 3] = [

@@ -2,33 +2,19 @@
 //! `--hex8`; shift-invert Lanczos), mode classification, modes.json / modes.csv / modes.vtu,
 //! optional hammer-test comparison and Matrix Market export of K and M.
 
-use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use squeal::axisym::revolve::revolve_hex27;
-use squeal::axisym::{AxisymModel, WheelClamp, WheelModelOptions};
 use squeal::fem::assembly::write_matrix_market;
-use squeal::fem::{
-    assemble, assemble_volume, Assembled, Constraints, ElasticMaterial, Hex8Kind, MassKind,
-};
+use squeal::fem::Hex8Kind;
 use squeal::geometry::wheel::WheelSpec;
-use squeal::mesh::wheel::{wheel_mesh, WheelPlacement};
-use squeal::mesh::{material, volume, vtu};
-use squeal::modal::classify::{classify_modes, classify_modes_points, ModeRecord};
-use squeal::modal::{solve, ModalOptions, ModalSolution};
+use squeal::material::Material;
+use squeal::mesh::vtu;
+use squeal::modal::classify::ModeRecord;
+use squeal::modal::pipeline::{revolved_model, solve_and_classify};
+use squeal::modal::ModalSolution;
+use squeal::model::modal::{mesh_model, wheel_model, Clamp};
 use squeal::{Error, Result};
-
-/// Which nodes are clamped.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum Clamp {
-    /// The hub bore (wheel without axle: the wheel seat).
-    HubBore,
-    /// Both axle end faces.
-    AxleEnds,
-    /// Free-free (six rigid modes).
-    None,
-}
 
 /// Hexahedron formulation of the stiffness (`--hex8`).
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -121,12 +107,45 @@ pub fn run(args: ModesArgs) -> Result<()> {
         ));
     }
     squeal::modal::lanczos::check_slices(args.slices)?;
-    let clamp = parse_clamp(&args.clamp)?;
-    let Some(wheel) = args.wheel.clone() else {
-        return run_mesh(&args, clamp);
+    let clamp = Clamp::parse(&args.clamp)?;
+    let started = std::time::Instant::now();
+    let model = match &args.wheel {
+        None => {
+            let (mesh, material) = read_mesh(&args)?;
+            let model = mesh_model(mesh, material, &clamp, args.hex8.into())?;
+            if let Some(n) = model.box_clamped_nodes {
+                println!("clamped {n} nodes ({})", args.clamp);
+            }
+            model
+        }
+        Some(wheel) => {
+            let spec = read_wheel(wheel, args.element_size_mm)?;
+            match args.revolved_sectors {
+                Some(sectors) => revolved_model(&spec, &clamp, sectors, args.hex8.into())?,
+                None => wheel_model(&spec, &clamp, args.hex8.into())?,
+            }
+        }
     };
+    println!(
+        "mesh: {}, {} dofs after constraints (assembled in {:.2} s)",
+        model.summary,
+        model.assembled.n_reduced,
+        started.elapsed().as_secs_f64()
+    );
+    if let Some(dir) = &args.export_mtx {
+        export_matrices(&model.assembled, dir)?;
+    }
+    let run = solve_and_classify(&model, args.fmax_hz, args.slices)?;
+    print_solution(&args, &run.solution);
+    write_outputs(&args, &run.solution, &run.shapes, &run.records, |fields| {
+        model.write_vtu(&args.out.join("modes.vtu"), fields)
+    })
+}
+
+/// Reads and checks a wheel file, with `--element-size-mm` applied.
+fn read_wheel(wheel: &std::path::Path, element_size_mm: Option<f64>) -> Result<WheelSpec> {
     // An unreadable wheel file is bad input (exit code 2), named with the option.
-    let mut spec: WheelSpec = squeal::input::read_json(&wheel).map_err(|e| match e {
+    let mut spec: WheelSpec = squeal::input::read_json(wheel).map_err(|e| match e {
         Error::Io { path, source } => Error::input(
             path,
             "--wheel",
@@ -134,7 +153,7 @@ pub fn run(args: ModesArgs) -> Result<()> {
         ),
         other => other,
     })?;
-    if let Some(h) = args.element_size_mm {
+    if let Some(h) = element_size_mm {
         if !(h.is_finite() && (2.0..=200.0).contains(&h)) {
             return Err(Error::input(
                 "command line",
@@ -145,83 +164,48 @@ pub fn run(args: ModesArgs) -> Result<()> {
         spec.mesh.element_size_mm = h;
     }
     spec.validate(&wheel.display().to_string())?;
-    let started = std::time::Instant::now();
-    if let Some(sectors) = args.revolved_sectors {
-        return run_revolved(&args, &spec, clamp, sectors);
-    }
-    let mut mesh = wheel_mesh(&spec, None, &WheelPlacement::default());
-    // Exact rigid modes through the tied web zones (see `Mesh::snap_tie_slaves`).
-    mesh.snap_tie_slaves();
-    let steel = ElasticMaterial {
-        youngs_modulus_pa: spec.material.youngs_modulus_pa,
-        poisson_ratio: spec.material.poisson_ratio,
-        density_kg_per_m3: spec.material.density_kg_per_m3,
-    };
-    let materials: BTreeMap<u32, ElasticMaterial> =
-        [material::WHEEL, material::AXLE, material::TREAD_BAND]
-            .into_iter()
-            .map(|id| (id, steel))
-            .collect();
-    let clamped_sets: Vec<String> = match clamp {
-        ClampChoice::Named(Clamp::None) => vec![],
-        ClampChoice::Named(Clamp::HubBore) => vec!["hub_bore".into()],
-        ClampChoice::Named(Clamp::AxleEnds) => {
-            vec!["axle_inner_end".into(), "axle_outer_end".into()]
-        }
-        ClampChoice::Box(conditions) => {
-            let ids = volume::select_nodes(&mesh.nodes, &conditions);
-            if ids.is_empty() {
-                return Err(empty_box(&args.clamp));
-            }
-            mesh.add_node_set("clamp_box", ids);
-            vec!["clamp_box".into()]
-        }
-    };
-    let asm = assemble(
-        &mesh,
-        &materials,
-        &Constraints {
-            clamped_sets,
-            ties: true,
-        },
-        MassKind::Consistent,
-        args.hex8.into(),
-    )?;
-    println!(
-        "mesh: {} nodes, {} elements, {} dofs after constraints (assembled in {:.2} s)",
-        mesh.node_count(),
-        mesh.element_count(),
-        asm.n_reduced,
-        started.elapsed().as_secs_f64()
-    );
-    if let Some(dir) = &args.export_mtx {
-        export_matrices(&asm, dir)?;
-    }
-    let sol = solve_band(&args, &asm)?;
-    // wheel centre: the axis passes through the tape-circle centre (x = z = 0 by placement)
-    let centre = WheelPlacement::default().tape_circle_centre_m;
-    let shapes = shapes_of(&sol, &asm);
-    let records = classify_modes(&mesh, centre, &shapes);
-    write_outputs(&args, &sol, &shapes, &records, |fields| {
-        vtu::write(&mesh, &args.out.join("modes.vtu"), fields)
-    })
+    Ok(spec)
 }
 
-type Shapes = Vec<(f64, f64, bool, Vec<[f64; 3]>)>;
+/// Reads `--mesh` and its material options (steel by default).
+fn read_mesh(args: &ModesArgs) -> Result<(squeal::mesh::volume::VolumeMesh, Material)> {
+    let path = args.mesh.as_ref().expect("clap group: --wheel or --mesh");
+    let steel = Material::STEEL;
+    let nu = args.poisson_ratio.unwrap_or(steel.poisson_ratio);
+    if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+        return Err(Error::input(
+            "command line",
+            "--poisson-ratio",
+            format!("{nu} is outside the allowed range (-1, 0.5)"),
+        ));
+    }
+    let material = Material {
+        youngs_modulus_pa: positive(
+            args.youngs_modulus_pa,
+            steel.youngs_modulus_pa,
+            "--youngs-modulus-pa",
+            1e13,
+        )?,
+        poisson_ratio: nu,
+        density_kg_per_m3: positive(
+            args.density_kg_per_m3,
+            steel.density_kg_per_m3,
+            "--density-kg-per-m3",
+            1e6,
+        )?,
+    };
+    let mesh = squeal::mesh::volume_io::read(path).map_err(|e| match e {
+        Error::Io { path, source } => Error::input(
+            path,
+            "--mesh",
+            format!("cannot read the mesh file ({source})"),
+        ),
+        other => other,
+    })?;
+    Ok((mesh, material))
+}
 
-fn solve_band(args: &ModesArgs, asm: &Assembled) -> Result<ModalSolution> {
-    let sol = solve(
-        &asm.k,
-        &asm.m,
-        &ModalOptions {
-            fmax_hz: args.fmax_hz,
-            // Tie slaves are snapped onto their faces, so the free wheel's rigid modes are exact
-            // (below 1e-2 Hz); its first flexible mode is hundreds of Hz.
-            rigid_below_hz: 1.0,
-            slices: args.slices,
-            ..Default::default()
-        },
-    )?;
+fn print_solution(args: &ModesArgs, sol: &ModalSolution) {
     println!(
         "solved: {} modes below {} Hz in {:.2} s ({} shift{}, factorisation {:.2} s, largest Krylov basis {}, {} blocks of {})",
         sol.modes.len(),
@@ -240,49 +224,9 @@ fn solve_band(args: &ModesArgs, asm: &Assembled) -> Result<ModalSolution> {
             args.fmax_hz
         );
     }
-    Ok(sol)
 }
 
-fn shapes_of(sol: &ModalSolution, asm: &Assembled) -> Shapes {
-    sol.modes
-        .iter()
-        .map(|m| (m.frequency_hz, m.residual, m.rigid, asm.expand(&m.vector)))
-        .collect()
-}
-
-/// The clamp option: a named node set choice or a box expression.
-enum ClampChoice {
-    Named(Clamp),
-    Box(Vec<volume::BoxCondition>),
-}
-
-fn parse_clamp(text: &str) -> Result<ClampChoice> {
-    if let Ok(c) = Clamp::from_str(text.trim(), true) {
-        return Ok(ClampChoice::Named(c));
-    }
-    volume::parse_box_expression(text)
-        .map(ClampChoice::Box)
-        .map_err(|e| {
-            Error::input(
-                "command line",
-                "--clamp",
-                format!(
-                    "{e}; allowed: none, hub-bore, axle-ends, or {}",
-                    volume::BOX_EXPRESSION_FORM
-                ),
-            )
-        })
-}
-
-fn empty_box(text: &str) -> Error {
-    Error::input(
-        "command line",
-        "--clamp",
-        format!(
-            "no mesh node satisfies `{text}`: nothing would be clamped (coordinates are in metres)"
-        ),
-    )
-}
+type Shapes = Vec<(f64, f64, bool, Vec<[f64; 3]>)>;
 
 fn positive(v: Option<f64>, default: f64, name: &str, max: f64) -> Result<f64> {
     match v {
@@ -294,219 +238,6 @@ fn positive(v: Option<f64>, default: f64, name: &str, max: f64) -> Result<f64> {
             format!("{x} is outside the allowed range (0, {max:e}]"),
         )),
     }
-}
-
-/// `squeal modes --mesh FILE`: a user volume mesh (hex8 / tet10 / hex27).
-fn run_mesh(args: &ModesArgs, clamp: ClampChoice) -> Result<()> {
-    let path = args.mesh.as_ref().expect("clap group: --wheel or --mesh");
-    let steel = ElasticMaterial::steel();
-    let nu = args.poisson_ratio.unwrap_or(steel.poisson_ratio);
-    if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
-        return Err(Error::input(
-            "command line",
-            "--poisson-ratio",
-            format!("{nu} is outside the allowed range (-1, 0.5)"),
-        ));
-    }
-    let material = ElasticMaterial {
-        youngs_modulus_pa: positive(
-            args.youngs_modulus_pa,
-            steel.youngs_modulus_pa,
-            "--youngs-modulus-pa",
-            1e13,
-        )?,
-        poisson_ratio: nu,
-        density_kg_per_m3: positive(
-            args.density_kg_per_m3,
-            steel.density_kg_per_m3,
-            "--density-kg-per-m3",
-            1e6,
-        )?,
-    };
-    let started = std::time::Instant::now();
-    let mut mesh = squeal::mesh::volume_io::read(path).map_err(|e| match e {
-        Error::Io { path, source } => Error::input(
-            path,
-            "--mesh",
-            format!("cannot read the mesh file ({source})"),
-        ),
-        other => other,
-    })?;
-    let clamped_sets = match clamp {
-        ClampChoice::Named(Clamp::None) => vec![],
-        ClampChoice::Named(c) => {
-            return Err(Error::input(
-                "command line",
-                "--clamp",
-                format!(
-                    "`{c:?}` names wheel node sets and needs --wheel; with --mesh use none or {}",
-                    volume::BOX_EXPRESSION_FORM
-                ),
-            ))
-        }
-        ClampChoice::Box(conditions) => {
-            let ids = volume::select_nodes(&mesh.nodes, &conditions);
-            if ids.is_empty() {
-                let (lo, hi) = mesh.bounds();
-                return Err(Error::input(
-                    "command line",
-                    "--clamp",
-                    format!(
-                        "no mesh node satisfies `{}`; the mesh spans x {:.4}..{:.4}, y {:.4}..{:.4}, z {:.4}..{:.4} m",
-                        args.clamp, lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
-                    ),
-                ));
-            }
-            println!("clamped {} nodes ({})", ids.len(), args.clamp);
-            mesh.set_node_set("clamp_box", ids);
-            vec!["clamp_box".to_string()]
-        }
-    };
-    let count = |vtk_type: u8| {
-        mesh.elements
-            .iter()
-            .filter(|e| e.vtk_type() == vtk_type)
-            .count()
-    };
-    let summary = format!(
-        "{} nodes, {} elements ({} hex8, {} tet10, {} hex27), volume {:.6e} m³",
-        mesh.nodes.len(),
-        mesh.elements.len(),
-        count(12),
-        count(24),
-        count(29),
-        squeal::fem::measure::volume(&mesh),
-    );
-    // Classified about the y-parallel axis (the wheel axis is y) through the
-    // volume centroid; for a body that is not a wheel the labels are only descriptive.
-    let centre = squeal::fem::measure::centroid(&mesh);
-    solve_volume(
-        args,
-        &mesh,
-        material,
-        clamped_sets,
-        centre,
-        &summary,
-        started,
-    )
-}
-
-/// The common end of `--mesh` and `--revolved-sectors`: assemble the volume mesh (one
-/// material), print `summary`, export K and M if asked, solve the band, classify about the
-/// y-parallel axis through `centre` and write the outputs.
-fn solve_volume(
-    args: &ModesArgs,
-    mesh: &volume::VolumeMesh,
-    material: ElasticMaterial,
-    clamped_sets: Vec<String>,
-    centre: [f64; 3],
-    summary: &str,
-    started: std::time::Instant,
-) -> Result<()> {
-    let materials: BTreeMap<u32, ElasticMaterial> =
-        mesh.material.iter().map(|&id| (id, material)).collect();
-    let asm = assemble_volume(
-        mesh,
-        &materials,
-        &Constraints {
-            clamped_sets,
-            ties: false,
-        },
-        MassKind::Consistent,
-        args.hex8.into(),
-    )?;
-    println!(
-        "mesh: {summary}, {} dofs after constraints (assembled in {:.2} s)",
-        asm.n_reduced,
-        started.elapsed().as_secs_f64()
-    );
-    if let Some(dir) = &args.export_mtx {
-        export_matrices(&asm, dir)?;
-    }
-    let sol = solve_band(args, &asm)?;
-    let shapes = shapes_of(&sol, &asm);
-    let axle = squeal::modal::classify::axle_only_nodes_of(
-        mesh.nodes.len(),
-        mesh.elements
-            .iter()
-            .zip(&mesh.material)
-            .map(|(e, &m)| (e.nodes(), m)),
-    );
-    let records = classify_modes_points(
-        &mesh.nodes,
-        &squeal::fem::measure::nodal_weights(mesh),
-        &axle,
-        centre,
-        &shapes,
-    );
-    write_outputs(args, &sol, &shapes, &records, |fields| {
-        vtu::write_volume(mesh, &args.out.join("modes.vtu"), fields)
-    })
-}
-
-/// `squeal modes --wheel W --revolved-sectors N`: the Q9 section of `squeal axisym` revolved
-/// into hex27 sectors, solved and classified as a volume mesh.
-fn run_revolved(
-    args: &ModesArgs,
-    spec: &WheelSpec,
-    clamp: ClampChoice,
-    sectors: usize,
-) -> Result<()> {
-    if !(3..=512).contains(&sectors) {
-        return Err(Error::input(
-            "command line",
-            "--revolved-sectors",
-            format!("{sectors} is outside the allowed range 3..=512"),
-        ));
-    }
-    let started = std::time::Instant::now();
-    let wheel_clamp = match clamp {
-        ClampChoice::Named(Clamp::HubBore) => WheelClamp::HubBore,
-        ClampChoice::Named(Clamp::AxleEnds) => WheelClamp::AxleEnds,
-        _ => WheelClamp::None,
-    };
-    let model = AxisymModel::from_wheel(
-        spec,
-        WheelModelOptions {
-            without_axle: false,
-            clamp: wheel_clamp,
-        },
-    )?;
-    let mut mesh = revolve_hex27(&model.mesh, sectors, &[("clamp", &model.clamped)]);
-    let clamped_sets = match clamp {
-        ClampChoice::Named(Clamp::None) => vec![],
-        ClampChoice::Named(_) => vec!["clamp".to_string()],
-        ClampChoice::Box(conditions) => {
-            let ids = volume::select_nodes(&mesh.nodes, &conditions);
-            if ids.is_empty() {
-                return Err(empty_box(&args.clamp));
-            }
-            mesh.set_node_set("clamp_box", ids);
-            vec!["clamp_box".to_string()]
-        }
-    };
-    let steel = ElasticMaterial {
-        youngs_modulus_pa: spec.material.youngs_modulus_pa,
-        poisson_ratio: spec.material.poisson_ratio,
-        density_kg_per_m3: spec.material.density_kg_per_m3,
-    };
-    let summary = format!(
-        "Q9 section of {} elements revolved into {} sectors: {} nodes, {} hex27",
-        model.mesh.elements.len(),
-        sectors,
-        mesh.nodes.len(),
-        mesh.elements.len(),
-    );
-    // The axis of revolution is the y axis through the origin (see `revolve_hex27`).
-    solve_volume(
-        args,
-        &mesh,
-        steel,
-        clamped_sets,
-        [0.0; 3],
-        &summary,
-        started,
-    )
 }
 
 fn write_outputs(

@@ -6,8 +6,8 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use squeal::kalker::{solve_force_prescribed, HertzContact, Method, RollingSolver};
+use squeal::model::case::load_case;
 use squeal::report::stability_charts::{write_eigenvalue_map, write_stability_map};
-use squeal::rolling::case::load_case;
 use squeal::stability::contact::TangentialModel;
 use squeal::stability::model::{Settings, StabilityModel, RAIL_TRUNCATION_FACTOR};
 use squeal::stability::operating::{self, OperatingPoint, KALKER_ELEMENTS};

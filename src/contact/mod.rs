@@ -33,83 +33,7 @@ use crate::mesh::tie::project_on_face;
 use crate::mesh::{Mesh, P3};
 use crate::{Error, Result};
 
-/// Friction law.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "law", rename_all = "snake_case")]
-pub enum FrictionLaw {
-    /// Constant coefficient.
-    Coulomb {
-        /// Friction coefficient.
-        mu: f64,
-    },
-    /// Velocity-dependent (falling) friction `mu_d + (mu_s - mu_d) exp(-c |v|)`.
-    Falling {
-        /// Static coefficient.
-        mu_static: f64,
-        /// Dynamic coefficient.
-        mu_dynamic: f64,
-        /// Decay `c` (s/m).
-        decay_s_per_m: f64,
-    },
-}
-
-impl FrictionLaw {
-    /// Coefficient at slip speed `v` (m/s).
-    #[inline]
-    pub fn mu(&self, slip_speed_m_per_s: f64) -> f64 {
-        match *self {
-            FrictionLaw::Coulomb { mu } => mu,
-            FrictionLaw::Falling {
-                mu_static,
-                mu_dynamic,
-                decay_s_per_m,
-            } => {
-                mu_dynamic
-                    + (mu_static - mu_dynamic) * (-decay_s_per_m * slip_speed_m_per_s.abs()).exp()
-            }
-        }
-    }
-
-    /// Range checks: coefficients in [0, 2], `mu_d <= mu_s`, `c >= 0`.
-    pub fn validate(&self, source_name: &str, field: &str) -> Result<()> {
-        let check = |name: &str, v: f64| -> Result<()> {
-            if !(0.0..=2.0).contains(&v) {
-                return Err(Error::input(
-                    source_name,
-                    format!("{field}.{name}"),
-                    format!("must lie in [0, 2] (got {v})"),
-                ));
-            }
-            Ok(())
-        };
-        match *self {
-            FrictionLaw::Coulomb { mu } => check("mu", mu),
-            FrictionLaw::Falling {
-                mu_static,
-                mu_dynamic,
-                decay_s_per_m,
-            } => {
-                check("mu_static", mu_static)?;
-                check("mu_dynamic", mu_dynamic)?;
-                if mu_dynamic > mu_static {
-                    return Err(Error::input(
-                        source_name,
-                        format!("{field}.mu_dynamic"),
-                        format!("must not exceed mu_static ({mu_dynamic} > {mu_static})"),
-                    ));
-                }
-                if !(decay_s_per_m >= 0.0 && decay_s_per_m.is_finite()) {
-                    return Err(Error::input(
-                        source_name,
-                        format!("{field}.decay_s_per_m"),
-                        format!("must be >= 0 (got {decay_s_per_m})"),
-                    ));
-                }
-                Ok(())
-            }
-        }
-    }
-}
+pub use crate::friction::FrictionLaw;
 
 /// Per-slave contact state (what the patch output reads).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -810,6 +734,25 @@ impl ContactPair {
                     dot(d, d) > limit2
                 })
             })
+    }
+
+    /// Switches friction off (a frictionless phase, e.g. the static preload) and returns the
+    /// law to put back.
+    pub fn suspend_friction(&mut self) -> FrictionLaw {
+        let law = self.friction;
+        self.friction = FrictionLaw::Coulomb { mu: 0.0 };
+        law
+    }
+
+    /// Puts `law` back (after [`ContactPair::suspend_friction`]) and starts every slave's
+    /// tangential force from zero: the frictionless phase left none, and its path must not
+    /// leave stick forces behind.
+    pub fn resume_friction(&mut self, law: FrictionLaw) {
+        self.friction = law;
+        for st in self.state.iter_mut() {
+            st.tangential_force_n = [0.0; 3];
+            st.mu = law.mu(0.0);
+        }
     }
 
     /// Starts the invariants' monitors afresh (`largest_shear_over_bound`,

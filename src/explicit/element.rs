@@ -37,59 +37,10 @@
 use serde::{Deserialize, Serialize};
 
 use crate::mesh::P3;
-use crate::{Error, Result};
 
-/// Isotropic linear elastic material (St. Venant-Kirchhoff in the engine).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ElasticMaterial {
-    /// Density (kg/m^3).
-    pub density_kg_per_m3: f64,
-    /// Young's modulus (Pa).
-    pub youngs_modulus_pa: f64,
-    /// Poisson's ratio (-).
-    pub poisson_ratio: f64,
-}
-
-impl ElasticMaterial {
-    /// Lame's first parameter (Pa).
-    pub fn lambda_pa(&self) -> f64 {
-        let (e, nu) = (self.youngs_modulus_pa, self.poisson_ratio);
-        e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
-    }
-    /// Shear modulus (Pa).
-    pub fn mu_pa(&self) -> f64 {
-        self.youngs_modulus_pa / (2.0 * (1.0 + self.poisson_ratio))
-    }
-    /// Dilatational (P-wave) speed `sqrt((lambda + 2 mu) / rho)` (m/s).
-    pub fn dilatational_wave_speed_m_per_s(&self) -> f64 {
-        ((self.lambda_pa() + 2.0 * self.mu_pa()) / self.density_kg_per_m3).sqrt()
-    }
-    /// Range checks naming the field.
-    pub fn validate(&self, source_name: &str, field: &str) -> Result<()> {
-        let bad = |name: &str, msg: String| {
-            Err(Error::input(source_name, format!("{field}.{name}"), msg))
-        };
-        if !(self.density_kg_per_m3 > 0.0 && self.density_kg_per_m3.is_finite()) {
-            return bad(
-                "density_kg_per_m3",
-                format!("must be > 0 (got {})", self.density_kg_per_m3),
-            );
-        }
-        if !(self.youngs_modulus_pa > 0.0 && self.youngs_modulus_pa.is_finite()) {
-            return bad(
-                "youngs_modulus_pa",
-                format!("must be > 0 (got {})", self.youngs_modulus_pa),
-            );
-        }
-        if !(self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5) {
-            return bad(
-                "poisson_ratio",
-                format!("must lie in (-1, 0.5) (got {})", self.poisson_ratio),
-            );
-        }
-        Ok(())
-    }
-}
+/// Isotropic linear elastic material (St. Venant-Kirchhoff in the engine): the crate's one
+/// material type.
+pub use crate::material::Material as ElasticMaterial;
 
 /// Hourglass control of the one-point element.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -8,20 +8,28 @@
 //! - [`model`]: what the engine integrates;
 //! - [`solver`]: the time step, the central-difference update and the energy balance;
 //! - [`run`]: a run with output, progress, checkpoints and resume;
-//! - [`preload`]: static equilibrium by dynamic relaxation;
-//! - [`curve`]: piecewise-linear time curves.
+//! - [`preload`]: static equilibrium by dynamic relaxation.
+//!
+//! Time curves ([`Curve`]) and spring-dampers ([`Spring`]) are the model stage's
+//! ([`crate::model`]), re-exported here.
 
+pub mod aux;
 pub mod batch;
 pub mod bench;
-pub mod curve;
+mod colour;
 pub mod element;
+pub mod energy;
 pub mod linearised;
 pub mod model;
 pub mod preload;
+mod rigid_body;
+mod rotation;
 pub mod run;
 pub mod solver;
+pub mod state;
+mod timestep;
 
-pub use curve::Curve;
+pub use crate::model::curve::Curve;
 pub use element::{ElasticMaterial, Formulation, Hourglass};
 pub use model::{Model, MotionKind, Spring};
 pub use solver::{AuxForces, EnergyReport, NoAux, Solver};

@@ -12,12 +12,13 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use super::curve::Curve;
 use super::element::{
     lumped_masses, ElasticMaterial, Formulation, FullElement, Hourglass, OnePointElement,
 };
 use crate::mesh::tie::TiePair;
 use crate::mesh::{Mesh, P3};
+use crate::model::curve::Curve;
+pub use crate::model::spring::Spring;
 use crate::{Error, Result};
 
 /// The element arrays of one formulation.
@@ -48,22 +49,6 @@ impl Elements {
             Elements::Full(v) => v[e].nodes,
         }
     }
-}
-
-/// A linear spring-damper between two nodes, or between a node and the ground, acting on each
-/// Cartesian component separately: `f = k (u_b - u_a) + c (v_b - v_a)` on node a (opposite on b).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Spring {
-    /// Name (for reports and errors).
-    pub name: String,
-    /// First node.
-    pub node_a: usize,
-    /// Second node; `None` = ground.
-    pub node_b: Option<usize>,
-    /// Stiffness per component x, y, z (N/m).
-    pub stiffness_n_per_m: [f64; 3],
-    /// Viscous damping per component (N s/m).
-    pub damping_n_s_per_m: [f64; 3],
 }
 
 /// What a prescribed motion curve gives.

@@ -29,13 +29,16 @@
 use std::ops::Range;
 
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
+pub use super::aux::{AuxForces, NoAux};
 use super::batch::{add_block_forces, ElementBatch, LANES};
+use super::colour::{colour_blocks, SharedMut};
 use super::element::{
     full_forces, one_point_forces, ElementEnergy, FullElement, KernelOptions, OnePointElement,
 };
 use super::model::{Elements, Model, MotionKind};
+use super::rotation::{cross, dot, mat_mul, mat_vec, transpose};
+pub use super::state::{EnergyReport, OutputFields, RigidState, WorkTotals};
 use crate::mesh::P3;
 use crate::{Error, Result};
 
@@ -43,168 +46,14 @@ use crate::{Error, Result};
 pub use crate::mesh::quality::COURANT_FACTOR;
 
 /// Elements per colouring block.
-const BLOCK_ELEMENTS: usize = 256;
+pub(super) const BLOCK_ELEMENTS: usize = 256;
 /// Nodes per chunk of the node loops (fixed, so sums do not depend on the thread count).
-const NODE_CHUNK: usize = 2048;
+pub(super) const NODE_CHUNK: usize = 2048;
 
 /// Node role bits.
-const ROLE_SLAVE: u8 = 1 << 6;
-const ROLE_RIGID: u8 = 1 << 7;
-const PRESCRIBED_SHIFT: u8 = 3;
-
-/// Forces added by another module every step (contact).
-pub trait AuxForces {
-    /// Adds forces at time `time_s` for the state `u` (at t_n) and `v` (at t_{n-1/2}) into
-    /// `force` (N). Must not allocate.
-    fn add_forces(&mut self, time_s: f64, dt_s: f64, u: &[P3], v: &[P3], force: &mut [P3]);
-    /// Called after each history sample at `time_s` (the module writes its own histories).
-    fn on_sample(&mut self, _time_s: f64, _out_dir: &std::path::Path) -> Result<()> {
-        Ok(())
-    }
-    /// Extra columns this module appends to `histories.csv` (e.g. wheel vibration in a
-    /// co-rotating frame).
-    fn history_columns(&self) -> Vec<String> {
-        Vec::new()
-    }
-    /// Appends one `,value` per [`AuxForces::history_columns`] entry for the sample at
-    /// `time_s`, from the output fields at that instant (`reference` = node coordinates).
-    fn push_history_values(
-        &mut self,
-        _time_s: f64,
-        _reference: &[P3],
-        _output: &OutputFields,
-        _row: &mut String,
-    ) -> Result<()> {
-        Ok(())
-    }
-    /// State to keep in checkpoints (e.g. tangential contact forces).
-    fn checkpoint_state(&self) -> Vec<f64> {
-        Vec::new()
-    }
-    /// Restores what [`AuxForces::checkpoint_state`] returned.
-    fn restore_state(&mut self, state: &[f64]) -> Result<()> {
-        if state.is_empty() {
-            Ok(())
-        } else {
-            Err(Error::input(
-                "checkpoint",
-                "aux_state",
-                "checkpoint holds contact state this run does not have",
-            ))
-        }
-    }
-}
-
-/// No auxiliary forces.
-pub struct NoAux;
-impl AuxForces for NoAux {
-    fn add_forces(&mut self, _: f64, _: f64, _: &[P3], _: &[P3], _: &mut [P3]) {}
-}
-
-/// Energies at one instant (J).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct EnergyReport {
-    /// Time (s).
-    pub time_s: f64,
-    /// Kinetic energy.
-    pub kinetic_j: f64,
-    /// Stored strain energy of the elements.
-    pub strain_j: f64,
-    /// Hourglass energy (stiffness form).
-    pub hourglass_j: f64,
-    /// Energy stored in the discrete springs.
-    pub spring_j: f64,
-    /// Energy dissipated by dampers (springs, Rayleigh, viscous hourglass).
-    pub damping_j: f64,
-    /// Energy absorbed by auxiliary (contact) forces: penalty energy + friction.
-    pub contact_j: f64,
-    /// Work of external loads (gravity, nodal loads, torque) and constraint reactions.
-    pub external_work_j: f64,
-    /// `kinetic + strain + hourglass + spring + damping + contact - external_work`.
-    pub balance_error_j: f64,
-    /// `|balance_error| / max(kinetic + strain + hourglass + spring, |external_work|)`.
-    pub balance_ratio: f64,
-    /// Smallest `det F` over the elements.
-    pub min_det_f: f64,
-    /// Element with the smallest `det F`.
-    pub min_det_f_element: usize,
-}
-
-/// Work accumulators (J), advanced every step.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct WorkTotals {
-    /// Work of internal (element) forces, `sum dt f_int . vbar`.
-    pub internal_j: f64,
-    /// Work of the auxiliary force array (springs, loads, contact).
-    pub aux_j: f64,
-    /// Work of gravity.
-    pub gravity_j: f64,
-    /// Energy dissipated by mass-proportional damping.
-    pub mass_damping_j: f64,
-    /// Work of constraint reactions (prescribed motions).
-    pub reaction_j: f64,
-    /// Work of the springs' forces on the nodes.
-    pub spring_j: f64,
-    /// Energy dissipated by spring dampers.
-    pub spring_damping_j: f64,
-    /// Work of nodal loads.
-    pub load_j: f64,
-    /// Work of applied torques.
-    pub torque_j: f64,
-    /// Energy present when the bookkeeping started (initial kinetic energy, preload): the
-    /// balance error of the first report, so that later reports measure the change.
-    pub initial_j: f64,
-}
-
-impl WorkTotals {
-    fn add_scaled(&mut self, o: &WorkTotals, s: f64) {
-        self.internal_j += s * o.internal_j;
-        self.aux_j += s * o.aux_j;
-        self.gravity_j += s * o.gravity_j;
-        self.mass_damping_j += s * o.mass_damping_j;
-        self.reaction_j += s * o.reaction_j;
-        self.spring_j += s * o.spring_j;
-        self.spring_damping_j += s * o.spring_damping_j;
-        self.load_j += s * o.load_j;
-        self.torque_j += s * o.torque_j;
-        self.initial_j += s * o.initial_j;
-    }
-}
-
-/// State of a rigid body.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RigidState {
-    /// Body mass (kg).
-    pub mass_kg: f64,
-    /// Reference centre of mass.
-    pub centre0_m: P3,
-    /// Current centre of mass (t_n).
-    pub centre_m: P3,
-    /// Centre velocity (t_{n-1/2}).
-    pub velocity_m_per_s: P3,
-    /// Rotation from the reference (t_n).
-    pub rotation: [[f64; 3]; 3],
-    /// Angular momentum about the centre (t_{n-1/2}).
-    pub angular_momentum: P3,
-    /// Inertia tensor about the centre, reference orientation (kg m^2).
-    pub inertia0: [[f64; 3]; 3],
-    /// Its inverse.
-    pub inertia0_inv: [[f64; 3]; 3],
-}
-
-/// Sampled node quantities of an output step (filled only on output steps).
-#[derive(Clone, Debug, Default)]
-pub struct OutputFields {
-    /// Displacement at t_n.
-    pub displacement: Vec<P3>,
-    /// Centred velocity at t_n.
-    pub velocity: Vec<P3>,
-    /// Acceleration at t_n.
-    pub acceleration: Vec<P3>,
-    /// Per rigid body, the force that holds its prescribed translations (N, zero in the free
-    /// directions): `m (v_(n+1/2) - v_(n-1/2)) / dt - F`, what the guide applies to the body.
-    pub rigid_reaction_force_n: Vec<P3>,
-}
+pub(super) const ROLE_SLAVE: u8 = 1 << 6;
+pub(super) const ROLE_RIGID: u8 = 1 << 7;
+pub(super) const PRESCRIBED_SHIFT: u8 = 3;
 
 /// The central-difference solver.
 pub struct Solver {
@@ -226,129 +75,26 @@ pub struct Solver {
     pub rigid: Vec<RigidState>,
     /// Output fields of the last output step.
     pub output: OutputFields,
-    f_int: Vec<P3>,
-    f_aux: Vec<P3>,
-    inv_mass: Vec<f64>,
-    eff_mass: Vec<f64>,
+    pub(super) f_int: Vec<P3>,
+    pub(super) f_aux: Vec<P3>,
+    pub(super) inv_mass: Vec<f64>,
+    pub(super) eff_mass: Vec<f64>,
     /// Masses gravity acts on: `eff_mass` unless inertia scaling is on.
-    gravity_mass: Vec<f64>,
+    pub(super) gravity_mass: Vec<f64>,
     /// The step without inertia scaling.
-    unscaled_dt_s: f64,
-    role: Vec<u8>,
-    prescribed_velocity: Vec<P3>,
-    colours: Vec<Vec<Range<usize>>>,
-    chunk_partials: Vec<(WorkTotals, f64)>,
-    discrete_nodes: Vec<usize>,
-    discrete_v_old: Vec<P3>,
-    spring_force: Vec<P3>,
-    kernel: KernelOptions,
-    batches: Vec<ElementBatch>,
-    avx2: bool,
-    last_energy: Option<EnergyReport>,
-    baseline_pending: bool,
-}
-
-/// Raw pointer that may be shared between threads; every use writes disjoint indices.
-#[derive(Clone, Copy)]
-struct SharedMut<T>(*mut T);
-unsafe impl<T> Send for SharedMut<T> {}
-unsafe impl<T> Sync for SharedMut<T> {}
-impl<T> SharedMut<T> {
-    /// The pointer (a method, so that closures capture the whole `Send + Sync` wrapper).
-    #[inline(always)]
-    fn ptr(self) -> *mut T {
-        self.0
-    }
-    /// # Safety
-    /// The caller guarantees that no two threads touch the same index.
-    #[inline(always)]
-    unsafe fn at(self, i: usize) -> *mut T {
-        self.0.add(i)
-    }
-}
-
-/// Greedy colouring of blocks of `block` consecutive items (elements or batches) whose nodes
-/// `nodes_of(item)` lists: blocks sharing a node get different colours.
-fn colour_blocks(
-    n: usize,
-    block: usize,
-    node_count: usize,
-    nodes_of: impl Fn(usize) -> Vec<u32>,
-) -> Result<Vec<Vec<Range<usize>>>> {
-    let mut node_colours: Vec<u64> = vec![0; node_count];
-    let mut colours: Vec<Vec<Range<usize>>> = Vec::new();
-    let mut start = 0;
-    while start < n {
-        let end = (start + block).min(n);
-        let mut used = 0u64;
-        for e in start..end {
-            for nd in nodes_of(e) {
-                used |= node_colours[nd as usize];
-            }
-        }
-        let c = (!used).trailing_zeros() as usize;
-        if c >= 64 {
-            return Err(Error::Mesh(
-                "element blocks need more than 64 colours: renumber the elements so that neighbours are close".into(),
-            ));
-        }
-        for e in start..end {
-            for nd in nodes_of(e) {
-                node_colours[nd as usize] |= 1 << c;
-            }
-        }
-        if colours.len() <= c {
-            colours.resize(c + 1, Vec::new());
-        }
-        colours[c].push(start..end);
-        start = end;
-    }
-    Ok(colours)
-}
-
-fn dot(a: P3, b: P3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: P3, b: P3) -> P3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn mat_vec(m: &[[f64; 3]; 3], x: P3) -> P3 {
-    [0, 1, 2].map(|i| m[i][0] * x[0] + m[i][1] * x[1] + m[i][2] * x[2])
-}
-fn mat_t_vec(m: &[[f64; 3]; 3], x: P3) -> P3 {
-    [0, 1, 2].map(|i| m[0][i] * x[0] + m[1][i] * x[1] + m[2][i] * x[2])
-}
-fn mat_mul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    let mut c = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            c[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
-        }
-    }
-    c
-}
-/// Rotation matrix of the rotation vector `w` (Rodrigues).
-fn rotation_from_vector(w: P3) -> [[f64; 3]; 3] {
-    let th = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
-    let mut r = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    if th < 1e-300 {
-        return r;
-    }
-    let k = [w[0] / th, w[1] / th, w[2] / th];
-    let (s, c) = th.sin_cos();
-    let kx = [[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]];
-    for i in 0..3 {
-        for j in 0..3 {
-            let kk = k[i] * k[j] - if i == j { 1.0 } else { 0.0 };
-            r[i][j] += s * kx[i][j] + (1.0 - c) * kk;
-        }
-    }
-    r
+    pub(super) unscaled_dt_s: f64,
+    pub(super) role: Vec<u8>,
+    pub(super) prescribed_velocity: Vec<P3>,
+    pub(super) colours: Vec<Vec<Range<usize>>>,
+    pub(super) chunk_partials: Vec<(WorkTotals, f64)>,
+    pub(super) discrete_nodes: Vec<usize>,
+    pub(super) discrete_v_old: Vec<P3>,
+    pub(super) spring_force: Vec<P3>,
+    pub(super) kernel: KernelOptions,
+    pub(super) batches: Vec<ElementBatch>,
+    pub(super) avx2: bool,
+    pub(super) last_energy: Option<EnergyReport>,
+    pub(super) baseline_pending: bool,
 }
 
 impl Solver {
@@ -538,130 +284,6 @@ impl Solver {
         };
         solver.unscaled_dt_s = solver.dt_s;
         Ok(solver)
-    }
-
-    /// Inertia scaling for a quasi-static phase (preload): adds `added_kg[n]` to the inertia of
-    /// node `n` (tie slaves pass theirs to their masters; rigid-body members are left as they
-    /// are) while gravity keeps acting on the true masses, and runs at step `dt_s`. Static
-    /// equilibrium does not depend on inertia, so a larger step reaches it in fewer steps. The
-    /// caller chooses `added_kg` so that `dt_s` is stable (see `rolling::preload_scaling`).
-    pub fn set_inertia_scaling(&mut self, added_kg: &[f64], dt_s: f64) -> Result<()> {
-        if added_kg.len() != self.eff_mass.len() || !(dt_s > 0.0 && dt_s.is_finite()) {
-            return Err(Error::input(
-                "model",
-                "inertia_scaling",
-                "needs one added mass per node and a positive step",
-            ));
-        }
-        let mut added = added_kg.to_vec();
-        for p in &self.model.ties {
-            let ms = added[p.slave];
-            for (k, m) in p.master.iter().enumerate() {
-                added[*m] += p.weights[k] * ms;
-            }
-            added[p.slave] = 0.0;
-        }
-        for i in 0..self.eff_mass.len() {
-            if self.role[i] & (ROLE_SLAVE | ROLE_RIGID) == 0 {
-                self.eff_mass[i] = self.gravity_mass[i] + added[i].max(0.0);
-                self.inv_mass[i] = 1.0 / self.eff_mass[i];
-            }
-        }
-        self.dt_s = dt_s;
-        Ok(())
-    }
-
-    /// Back to the true inertia and the step the solver was built with.
-    pub fn clear_inertia_scaling(&mut self) {
-        for i in 0..self.eff_mass.len() {
-            if self.role[i] & (ROLE_SLAVE | ROLE_RIGID) == 0 {
-                self.eff_mass[i] = self.gravity_mass[i];
-                self.inv_mass[i] = 1.0 / self.eff_mass[i];
-            }
-        }
-        self.dt_s = self.unscaled_dt_s;
-    }
-
-    /// Stable time step (s) and what sets it: the smallest element transit `L / c_L` (current
-    /// configuration, `L = V / A_max`), spring limits `2 sqrt(m_eff / k)`, and registered bounds.
-    pub fn stable_time_step_s(&self) -> Result<(f64, String)> {
-        let n_el = self.model.elements.len();
-        let (mut best, mut what) = (f64::INFINITY, String::from("nothing"));
-        if n_el > 0 {
-            let (dt, e) = (0..n_el)
-                .into_par_iter()
-                .map(|e| {
-                    let nodes = self.model.elements.nodes(e);
-                    let x: [P3; 8] = std::array::from_fn(|a| {
-                        let nd = nodes[a] as usize;
-                        [0, 1, 2].map(|i| self.model.mesh.nodes[nd][i] + self.u[nd][i])
-                    });
-                    (
-                        crate::mesh::hex::characteristic_length(&x)
-                            / self.model.element_wave_speed_m_per_s[e],
-                        e,
-                    )
-                })
-                .reduce(
-                    || (f64::INFINITY, 0),
-                    |a, b| {
-                        if b.0 < a.0 || (b.0 == a.0 && b.1 < a.1) {
-                            b
-                        } else {
-                            a
-                        }
-                    },
-                );
-            if !(dt > 0.0) {
-                return Err(Error::Numerical(format!(
-                    "element {e} has a non-positive characteristic length"
-                )));
-            }
-            best = dt;
-            what = format!("element {e}");
-        }
-        for s in &self.model.springs {
-            let k = s.stiffness_n_per_m.iter().fold(0.0f64, |m, &k| m.max(k));
-            if k <= 0.0 {
-                continue;
-            }
-            let ma = self.eff_mass_for_bound(s.node_a);
-            let inv = 1.0 / ma
-                + s.node_b
-                    .map(|b| 1.0 / self.eff_mass_for_bound(b))
-                    .unwrap_or(0.0);
-            let dt = 2.0 / (k * inv).sqrt();
-            if dt < best {
-                best = dt;
-                what = format!("spring {}", s.name);
-            }
-        }
-        for (name, dt) in &self.model.time_step_bounds {
-            if *dt < best {
-                best = *dt;
-                what = name.clone();
-            }
-        }
-        if !best.is_finite() {
-            return Err(Error::input(
-                "model",
-                "elements",
-                "the model has no element and no spring",
-            ));
-        }
-        Ok((best, what))
-    }
-
-    fn eff_mass_for_bound(&self, node: usize) -> f64 {
-        if self.role[node] & ROLE_RIGID != 0 {
-            // Member of a rigid body: the body's mass moves with it.
-            for (rb, st) in self.model.rigid_bodies.iter().zip(&self.rigid) {
-                if rb.nodes.binary_search(&node).is_ok() {
-                    return st.mass_kg;
-                }
-            }
-        }
-        self.eff_mass[node].max(1e-300)
     }
 
     /// Sets an initial velocity field `v = v0 + omega x (X - centre)` on `nodes` (all when None),
@@ -1078,164 +700,6 @@ impl Solver {
         (work, damp, load)
     }
 
-    /// Advances rigid body `b` (forces of its members at t_n) and moves its nodes.
-    fn advance_rigid_body(&mut self, b: usize, t: f64, dt: f64, output: bool) -> (WorkTotals, f64) {
-        let spec = &self.model.rigid_bodies[b];
-        let st = &mut self.rigid[b];
-        let g = self.model.gravity_m_per_s2;
-        let alpha = self.model.mass_damping_per_s;
-        let mut force = [0.0; 3];
-        let mut moment = [0.0; 3];
-        let mut w = WorkTotals::default();
-        for &nd in &spec.nodes {
-            let m = self.eff_mass[nd];
-            let x = [0, 1, 2].map(|i| self.model.mesh.nodes[nd][i] + self.u[nd][i]);
-            let f: P3 = [0, 1, 2].map(|i| {
-                self.f_aux[nd][i] - self.f_int[nd][i] + m * g[i] - alpha * m * self.v[nd][i]
-            });
-            for i in 0..3 {
-                force[i] += f[i];
-            }
-            let r = [0, 1, 2].map(|i| x[i] - st.centre_m[i]);
-            let mm = cross(r, f);
-            for i in 0..3 {
-                moment[i] += mm[i];
-            }
-        }
-        let mut applied_torque = [0.0; 3];
-        if let Some(tq) = &spec.torque {
-            let s = tq.curve_n_m.value(t);
-            applied_torque = tq.axis.map(|a| a * s);
-            for i in 0..3 {
-                moment[i] += applied_torque[i];
-            }
-        }
-        let v_old = st.velocity_m_per_s;
-        let mut v_new = [0, 1, 2].map(|i| v_old[i] + dt * force[i] / st.mass_kg);
-        let mut reactions = [0.0; 3];
-        for i in 0..3 {
-            if let Some(c) = &spec.prescribed_translation_m[i] {
-                v_new[i] = (c.value(t + dt) - c.value(t)) / dt;
-                let reaction = st.mass_kg * (v_new[i] - v_old[i]) / dt - force[i];
-                w.reaction_j += dt * reaction * 0.5 * (v_old[i] + v_new[i]);
-                reactions[i] = reaction;
-            }
-        }
-        if output {
-            self.output.rigid_reaction_force_n[b] = reactions;
-        }
-        let l_old = st.angular_momentum;
-        let mut l_new = [0, 1, 2].map(|i| l_old[i] + dt * moment[i]);
-        if let Some(a) = spec.rotation_axis {
-            // Turning about the fixed axis a only: keep L = I ω with ω along a. The axis is a
-            // principal direction of the current inertia whenever the body is symmetric about
-            // it; in general only the a-component of the moment drives the spin (eq. of the
-            // doc of `rotation_axis`), so project L on the inertia's response to a.
-            let l_a = dot(l_new, a);
-            let inertia = mat_mul(
-                &mat_mul(&st.rotation, &st.inertia0),
-                &transpose(&st.rotation),
-            );
-            let i_a = mat_vec(&inertia, a);
-            let i_aa = dot(a, i_a);
-            let mut spin = l_a / i_aa;
-            if let Some(c) = &spec.prescribed_spin_rad_per_s {
-                // L lives at half steps: the spin of t + dt/2; the holding moment about a is
-                // I_aa (spin_new - spin_old) / dt - M.a, and its work is booked as a reaction.
-                let spin_old = dot(l_old, a) / i_aa;
-                spin = c.value(t + 0.5 * dt);
-                let reaction = i_aa * (spin - spin_old) / dt - dot(moment, a);
-                w.reaction_j += dt * reaction * 0.5 * (spin_old + spin);
-            }
-            l_new = i_a.map(|x| x * spin);
-        }
-        // omega = R I0^-1 R^T L (inertia of the current orientation).
-        let omega = mat_vec(
-            &st.rotation,
-            mat_vec(&st.inertia0_inv, mat_t_vec(&st.rotation, l_new)),
-        );
-        let omega_old = mat_vec(
-            &st.rotation,
-            mat_vec(&st.inertia0_inv, mat_t_vec(&st.rotation, l_old)),
-        );
-        for i in 0..3 {
-            w.torque_j += dt * applied_torque[i] * 0.5 * (omega[i] + omega_old[i]);
-        }
-        let dr = rotation_from_vector(omega.map(|x| x * dt));
-        st.rotation = mat_mul(&dr, &st.rotation);
-        for i in 0..3 {
-            st.centre_m[i] += dt * v_new[i];
-        }
-        st.velocity_m_per_s = v_new;
-        st.angular_momentum = l_new;
-        let mut kinetic = 0.0;
-        for &nd in &spec.nodes {
-            let x0 = self.model.mesh.nodes[nd];
-            let r0 = [0, 1, 2].map(|i| x0[i] - st.centre0_m[i]);
-            let r = mat_vec(&st.rotation, r0);
-            let m = self.eff_mass[nd];
-            let mut vnew = [0.0; 3];
-            for i in 0..3 {
-                let u_new = st.centre_m[i] + r[i] - x0[i];
-                vnew[i] = (u_new - self.u[nd][i]) / dt;
-                let vbar = 0.5 * (self.v[nd][i] + vnew[i]);
-                let fi = self.f_int[nd][i];
-                let fa = self.f_aux[nd][i];
-                w.internal_j += dt * fi * vbar;
-                w.aux_j += dt * fa * vbar;
-                w.gravity_j += dt * m * g[i] * vbar;
-                w.mass_damping_j += dt * alpha * m * self.v[nd][i] * vbar;
-                if output {
-                    kinetic += 0.5 * m * vbar * vbar;
-                    self.output.displacement[nd][i] = self.u[nd][i];
-                    self.output.velocity[nd][i] = vbar;
-                    self.output.acceleration[nd][i] = (vnew[i] - self.v[nd][i]) / dt;
-                }
-                self.u[nd][i] = u_new;
-            }
-            self.v[nd] = vnew;
-        }
-        (w, kinetic)
-    }
-
-    fn energy_report(&self, t: f64, kinetic: f64, w: &WorkTotals) -> EnergyReport {
-        let (el, worst) = self.element_energy();
-        let spring = self.spring_energy_j();
-        let element_damping =
-            if self.kernel.viscous_hourglass || self.kernel.stiffness_damping_s > 0.0 {
-                // Internal work minus the stored potentials is what the element dampers dissipated.
-                (w.internal_j - el.strain_j - el.hourglass_j).max(0.0)
-            } else {
-                0.0
-            };
-        let damping = w.mass_damping_j + w.spring_damping_j + element_damping;
-        // Work done on the auxiliary array that is neither springs nor loads: absorbed by contact.
-        let contact = -(w.aux_j - w.spring_j - w.load_j);
-        let external = w.gravity_j + w.load_j + w.torque_j + w.reaction_j + w.initial_j;
-        let stored = kinetic + el.strain_j + el.hourglass_j + spring;
-        let error = stored + damping + contact - external;
-        let scale = stored.max(external.abs()).max(1e-300);
-        EnergyReport {
-            time_s: t,
-            kinetic_j: kinetic,
-            strain_j: el.strain_j,
-            hourglass_j: el.hourglass_j,
-            spring_j: spring,
-            damping_j: damping,
-            contact_j: contact,
-            external_work_j: external,
-            balance_error_j: error,
-            balance_ratio: error.abs() / scale,
-            min_det_f: el.min_det_f,
-            min_det_f_element: worst,
-        }
-    }
-
-    /// The energy report of the last output step.
-    pub fn last_energy(&self) -> Option<EnergyReport> {
-        self.last_energy
-    }
-
     /// Out-of-balance force norm `|f_ext - f_int|` over the free directions of the free nodes,
     /// and a reference force norm `|f_int| + |f_ext|` (N), with the forces of the last step.
     pub fn residual_norms(&self) -> (f64, f64) {
@@ -1320,48 +784,6 @@ impl Solver {
         )
     }
 
-    /// Checks the state: any non-finite displacement or an inverted element is an instability.
-    pub fn check_state(&self, energy: &EnergyReport, balance_threshold: f64) -> Result<()> {
-        if let Some(nd) = self.u.iter().position(|x| !x.iter().all(|c| c.is_finite())) {
-            return Err(Error::Numerical(format!(
-                "unstable at t = {:.6e} s (step {}): node {nd} has a non-finite displacement",
-                self.time_s, self.step
-            )));
-        }
-        if !(energy.min_det_f > 0.0) {
-            let e = energy.min_det_f_element;
-            return Err(Error::Numerical(format!(
-                "element {e} inverted at t = {:.6e} s (step {}): det F = {:.3e}, nodes {:?}",
-                energy.time_s,
-                self.step,
-                energy.min_det_f,
-                self.model.elements.nodes(e)
-            )));
-        }
-        if !energy.kinetic_j.is_finite() || energy.balance_ratio > balance_threshold {
-            let worst = self
-                .v
-                .iter()
-                .enumerate()
-                .map(|(i, v)| (i, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]))
-                .fold(
-                    (0, -1.0),
-                    |a, b| if b.1 > a.1 || b.1.is_nan() { b } else { a },
-                );
-            return Err(Error::Numerical(format!(
-                "energy balance lost at t = {:.6e} s (step {}): error {:.3e} J = {:.2} % of the energy (threshold {:.2} %); fastest node {} at {:.3e} m/s",
-                energy.time_s,
-                self.step,
-                energy.balance_error_j,
-                100.0 * energy.balance_ratio,
-                100.0 * balance_threshold,
-                worst.0,
-                worst.1.sqrt()
-            )));
-        }
-        Ok(())
-    }
-
     /// Crate-internal mutable access for restoring checkpoints (every part of the state).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn restore(
@@ -1383,14 +805,4 @@ impl Solver {
         self.rigid = rigid;
         self.baseline_pending = false;
     }
-}
-
-fn transpose(m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    let mut t = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            t[i][j] = m[j][i];
-        }
-    }
-    t
 }

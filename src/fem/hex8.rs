@@ -14,46 +14,9 @@
 
 use crate::mesh::hex::NODE_NATURAL;
 use crate::mesh::P3;
-use serde::{Deserialize, Serialize};
 
-/// Isotropic linear-elastic material.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ElasticMaterial {
-    /// Young's modulus (Pa).
-    pub youngs_modulus_pa: f64,
-    /// Poisson's ratio (-).
-    pub poisson_ratio: f64,
-    /// Density (kg/m³).
-    pub density_kg_per_m3: f64,
-}
-
-impl ElasticMaterial {
-    /// Structural steel as in docs/references.md, section 3 (E = 210 GPa, nu = 0.3, rho = 7850).
-    pub fn steel() -> Self {
-        ElasticMaterial {
-            youngs_modulus_pa: 210e9,
-            poisson_ratio: 0.3,
-            density_kg_per_m3: 7850.0,
-        }
-    }
-
-    /// The 6x6 isotropic elasticity matrix (Voigt, engineering shear strains).
-    pub fn d_matrix(&self) -> [[f64; 6]; 6] {
-        let e = self.youngs_modulus_pa;
-        let nu = self.poisson_ratio;
-        let lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
-        let mu = e / (2.0 * (1.0 + nu));
-        let mut d = [[0.0; 6]; 6];
-        for i in 0..3 {
-            for j in 0..3 {
-                d[i][j] = lambda;
-            }
-            d[i][i] = lambda + 2.0 * mu;
-            d[i + 3][i + 3] = mu;
-        }
-        d
-    }
-}
+/// Isotropic linear-elastic material: the crate's one material type.
+pub use crate::material::Material as ElasticMaterial;
 
 /// Element stiffness and mass (24x24, row-major).
 #[derive(Clone, Debug)]

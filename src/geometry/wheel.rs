@@ -63,43 +63,19 @@ pub struct AxleSpec {
     pub bearing_centre_s_mm: f64,
 }
 
-/// Linear elastic isotropic material.
-#[derive(Clone, Copy, Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct MaterialSpec {
-    /// Young's modulus (Pa).
-    pub youngs_modulus_pa: f64,
-    /// Poisson's ratio.
-    pub poisson_ratio: f64,
-    /// Density (kg/m^3).
-    pub density_kg_per_m3: f64,
-}
+/// Linear elastic isotropic material: the crate's one material type.
+pub use crate::material::Material as MaterialSpec;
 
-impl MaterialSpec {
-    /// Steel of docs/references.md, section 3: E = 210 GPa, nu = 0.3, rho = 7850 kg/m^3.
-    pub const STEEL: MaterialSpec = MaterialSpec {
-        youngs_modulus_pa: 210e9,
-        poisson_ratio: 0.3,
-        density_kg_per_m3: 7850.0,
-    };
-
-    /// Validate (E > 0, -1 < nu < 0.5, rho > 0).
-    pub fn check(&self, c: &Checker, prefix: &str) -> Result<()> {
-        c.positive(
-            &format!("{prefix}.youngs_modulus_pa"),
-            self.youngs_modulus_pa,
-        )?;
-        c.within(
-            &format!("{prefix}.poisson_ratio"),
-            self.poisson_ratio,
-            -0.999,
-            0.499,
-        )?;
-        c.positive(
-            &format!("{prefix}.density_kg_per_m3"),
-            self.density_kg_per_m3,
-        )
-    }
+/// Validate a wheel material (E > 0, -1 < nu < 0.5, rho > 0), naming `prefix.<field>`.
+fn check_material(m: &MaterialSpec, c: &Checker, prefix: &str) -> Result<()> {
+    c.positive(&format!("{prefix}.youngs_modulus_pa"), m.youngs_modulus_pa)?;
+    c.within(
+        &format!("{prefix}.poisson_ratio"),
+        m.poisson_ratio,
+        -0.999,
+        0.499,
+    )?;
+    c.positive(&format!("{prefix}.density_kg_per_m3"), m.density_kg_per_m3)
 }
 
 /// Mesh settings of the wheel body.
@@ -259,7 +235,7 @@ impl WheelSpec {
                 p[p.len() - 1][0],
             )?;
         }
-        self.material.check(&c, "material")?;
+        check_material(&self.material, &c, "material")?;
         c.within("mesh.element_size_mm", self.mesh.element_size_mm, 0.5, 60.0)?;
         let n = self.mesh.circumferential_divisions;
         c.require(n >= 8 && n.is_multiple_of(8) && n <= 20000, "mesh.circumferential_divisions", || {

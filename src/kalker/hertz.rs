@@ -62,7 +62,7 @@ impl HertzContact {
             }
         }
         super::validate_normal_force(normal_force_n, "hertz")?;
-        Material::validated(material.young_modulus_pa, material.poisson_ratio, "hertz")?;
+        Material::validated(material.youngs_modulus_pa, material.poisson_ratio, "hertz")?;
         let combined_modulus_pa = material.combined_modulus_pa();
         // The major axis lies along the direction of the smaller curvature.
         let (curvature_major, curvature_minor) = if curvature_x_per_m <= curvature_y_per_m {

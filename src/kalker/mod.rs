@@ -37,65 +37,14 @@ pub use tangential::{Creepages, ElementState};
 
 use crate::{Error, Result};
 
-/// Elastic constants of the two (identical) bodies.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Material {
-    /// Young's modulus E (Pa).
-    pub young_modulus_pa: f64,
-    /// Poisson's ratio nu (-), 0 <= nu <= 0.5.
-    pub poisson_ratio: f64,
-}
+/// Elastic constants of the two (identical) bodies: the crate's one material type
+/// ([`Material::validated`], [`Material::combined_modulus_pa`]).
+pub use crate::material::Material;
 
-impl Material {
-    /// Wheel and rail steel as in docs/references.md, section 5: E = 210 GPa, nu = 0.3.
-    pub const STEEL: Material = Material {
-        young_modulus_pa: 210e9,
-        poisson_ratio: 0.3,
-    };
-
-    /// Checks the ranges (E > 0, 0 <= nu < 0.5) so that every formula downstream is finite.
-    pub fn validated(young_modulus_pa: f64, poisson_ratio: f64, source: &str) -> Result<Material> {
-        if !(young_modulus_pa.is_finite() && young_modulus_pa > 0.0) {
-            return Err(Error::input(
-                source,
-                "--e",
-                format!("Young's modulus must be > 0 Pa, got {young_modulus_pa}"),
-            ));
-        }
-        if !(poisson_ratio.is_finite() && (0.0..0.5).contains(&poisson_ratio)) {
-            return Err(Error::input(
-                source,
-                "--nu",
-                format!("Poisson's ratio must be in [0, 0.5), got {poisson_ratio}"),
-            ));
-        }
-        Ok(Material {
-            young_modulus_pa,
-            poisson_ratio,
-        })
-    }
-
-    /// Shear modulus G = E / (2 (1 + nu)).
-    pub fn shear_modulus_pa(&self) -> f64 {
-        self.young_modulus_pa / (2.0 * (1.0 + self.poisson_ratio))
-    }
-
-    /// Combined modulus of two identical bodies, E* = E / (2 (1 - nu^2)) (docs/references.md, section 5).
-    pub fn combined_modulus_pa(&self) -> f64 {
-        self.young_modulus_pa / (2.0 * (1.0 - self.poisson_ratio * self.poisson_ratio))
-    }
-}
-
-/// Checks a friction coefficient: finite and > 0.
+/// Checks a friction coefficient for Kalker's theory: in (0, 2].
 pub fn validate_friction(mu: f64, source: &str) -> Result<()> {
-    if !(mu.is_finite() && mu > 0.0) {
-        return Err(Error::input(
-            source,
-            "--mu",
-            format!("friction coefficient must be > 0, got {mu}"),
-        ));
-    }
-    Ok(())
+    // The tangential problem needs friction: zero is refused here, unlike in the FE contact.
+    crate::friction::check_coefficient(mu, source, "--mu", false)
 }
 
 /// Checks a normal force: finite and > 0 N.

@@ -34,5 +34,6 @@ pub mod classify;
 pub mod lanczos;
 pub mod mode;
 pub mod ordering;
+pub mod pipeline;
 
 pub use lanczos::{solve, ModalOptions, ModalSolution, Mode};

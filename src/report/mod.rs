@@ -4,7 +4,9 @@
 pub mod chart;
 pub mod kalker_charts;
 pub mod modal_chart;
+mod page;
 pub mod patch_maps;
 pub mod run_report;
+mod sections;
 pub mod stability_charts;
 pub mod table3;

@@ -2,9 +2,9 @@
 //! holds the axle at the rolling speed, and the prescribed-creepage drive.
 
 use super::build::RollingModel;
-use super::case;
 use crate::explicit::Curve;
 use crate::mesh::P3;
+use crate::model::case;
 use crate::Result;
 
 /// Holds the axle at the rolling speed and spins it at `V (1 + xi(t)) / R` (see

@@ -23,10 +23,8 @@
 //! `patches/patch_*.csv|json`, `energy.csv`, `status.json`, `run.json`, VTU snapshots.
 
 pub mod build;
-pub mod case;
 mod drive;
 pub mod instruments;
-pub mod lateral;
 pub mod output;
 mod preload;
 
@@ -42,8 +40,9 @@ use instruments::ContactPointRecord;
 use preload::staged_preload;
 
 pub use crate::explicit::run::StopFlag;
+pub use crate::model::case::{embedded_default_case, load_case, LoadedCase, RollingCase};
+pub use crate::model::{case, lateral};
 pub use build::{build, preload_scaling, ModelInfo, RollingModel, INITIAL_GAP_LIMIT_M};
-pub use case::{embedded_default_case, load_case, LoadedCase, RollingCase};
 pub use output::{
     RollingContact, CONTACT_FORCE_COLUMNS, CONTACT_HISTORY_COLUMNS, VIBRATION_COLUMNS,
 };
@@ -143,15 +142,10 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         // Frictionless preload: while the wheel settles its rim turns a little and the contact
         // points creep sideways; with friction that path would leave the lateral stick forces
         // saturated at the bound before the wheel has even started rolling.
-        let friction = m.contact.pair.friction;
-        m.contact.pair.friction = crate::contact::FrictionLaw::Coulomb { mu: 0.0 };
+        let friction = m.contact.pair.suspend_friction();
         let report = staged_preload(&mut m, &case.preload, &opts.stop);
         m.solver.clear_inertia_scaling();
-        m.contact.pair.friction = friction;
-        for st in m.contact.pair.state.iter_mut() {
-            st.tangential_force_n = [0.0; 3];
-            st.mu = friction.mu(0.0);
-        }
+        m.contact.pair.resume_friction(friction);
         let report = report?;
         if !m.contact.pair.state.iter().any(|s| s.active) {
             return Err(Error::input(

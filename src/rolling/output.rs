@@ -14,6 +14,8 @@ use crate::explicit::AuxForces;
 use crate::mesh::P3;
 use crate::{Error, Result};
 
+pub use crate::model::rolling::RimAndHub;
+
 /// Contact plus the rolling outputs: `contact_forces.csv`, patch snapshots and the wheel
 /// vibration columns of `histories.csv`.
 pub struct RollingContact {
@@ -46,23 +48,13 @@ pub struct RollingContact {
     pub(super) forward_guide_force_n: f64,
 }
 
-/// The rim and hub nodes the vibration histories read.
-pub struct RimAndHub {
-    /// The rim point: the top node of the field-side rim face.
-    pub rim_node: usize,
-    /// Every node of the field-side rim face (the rim mean).
-    pub rim_nodes: Vec<usize>,
-    /// The hub bore nodes (the wheel centre and its spin).
-    pub hub_nodes: Vec<usize>,
-}
-
 impl RollingContact {
     /// The outputs of a rolling run over `pair`: `axle_body` is the rigid body whose reaction is
     /// the forward guide's force; `tape_circle_y_m` the wheel's reference lateral position.
     pub fn new(
         pair: ContactPair,
         nodes: RimAndHub,
-        output: &super::case::OutputSpec,
+        output: &crate::model::case::OutputSpec,
         axle_body: usize,
         tape_circle_y_m: f64,
     ) -> RollingContact {

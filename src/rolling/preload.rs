@@ -3,9 +3,9 @@
 //! static load.
 
 use super::build::RollingModel;
-use super::case;
 use crate::explicit::preload::{relax, PreloadOptions, PreloadReport};
 use crate::explicit::run::StopFlag;
+use crate::model::case;
 use crate::{Error, Result};
 
 /// Static preload (frictionless dynamic relaxation with the case's damping) in stages. The

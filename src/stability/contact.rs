@@ -43,7 +43,8 @@
 use serde::Serialize;
 
 use super::system::LinearContact;
-use crate::kalker::{Creepages, HertzContact, Material, Method, RollingSolver};
+use crate::kalker::{Creepages, HertzContact, Method, RollingSolver};
+use crate::material::Material;
 use crate::{Error, Result};
 
 /// The contact frame: unit vectors `[t1, t2, n]` in global components.

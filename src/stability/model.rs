@@ -13,8 +13,9 @@ use super::rail_modes::{rail_body, rail_modal_model, RailModalModel};
 use super::system::{CoupledSystem, LinearContact, ModalBody, SystemEigen};
 use super::wheel::{check_fmax, WheelDamping, WheelModes};
 use crate::geometry::wheel::WheelSpec;
-use crate::kalker::{Material, Method};
-use crate::rolling::case::LoadedCase;
+use crate::kalker::Method;
+use crate::material::Material;
+use crate::model::case::LoadedCase;
 use crate::Result;
 
 /// What the analysis is built with.
@@ -110,11 +111,8 @@ impl StabilityModel {
         Ok(StabilityModel {
             wheel,
             track: Track::from_case(loaded)?,
-            material: Material::validated(
-                spec.material.youngs_modulus_pa,
-                spec.material.poisson_ratio,
-                &path.display().to_string(),
-            )?,
+            // Validated with the wheel file above.
+            material: spec.material,
             settings,
         })
     }

@@ -26,12 +26,11 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::contact::ContactState;
-use crate::contact::FrictionLaw;
+use crate::friction::FrictionLaw;
 use crate::kalker::profiles;
-use crate::kalker::{
-    solve_force_prescribed, Creepages, HertzContact, Material, Method, RollingSolver,
-};
-use crate::rolling::case::{LateralMotion, LoadedCase};
+use crate::kalker::{solve_force_prescribed, Creepages, HertzContact, Method, RollingSolver};
+use crate::material::Material;
+use crate::model::case::{LateralMotion, LoadedCase};
 use crate::table::Table;
 use crate::{Error, Result};
 

@@ -38,17 +38,14 @@ use faer::c64;
 use serde::Serialize;
 
 use super::banded::BandMatrix;
+use crate::material::Material;
 use crate::{Error, Result};
 
 /// Rail section and material (SI).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct RailSection {
-    /// Young's modulus (Pa).
-    pub youngs_modulus_pa: f64,
-    /// Poisson's ratio.
-    pub poisson_ratio: f64,
-    /// Density (kg/m^3).
-    pub density_kg_per_m3: f64,
+    /// The rail's steel.
+    pub material: Material,
     /// Area (m^2).
     pub area_m2: f64,
     /// Second moment for vertical bending (m^4).
@@ -67,9 +64,7 @@ impl RailSection {
     /// thin web carries the shear; Thompson, Railway Noise and Vibration, 2009, ch. 3), and
     /// 0.5 laterally (the head and foot carry it; an assumption, an input).
     pub const UIC54: RailSection = RailSection {
-        youngs_modulus_pa: 210e9,
-        poisson_ratio: 0.3,
-        density_kg_per_m3: 7850.0,
+        material: Material::STEEL,
         area_m2: 69.77e-4,
         second_moment_vertical_m4: 2337.9e-8,
         second_moment_lateral_m4: 419.1e-8,
@@ -229,7 +224,7 @@ impl Track {
         }
         let (x, contact_node) = self.nodes(x_contact_m);
         let rail = &self.rail;
-        let g = rail.youngs_modulus_pa / (2.0 * (1.0 + rail.poisson_ratio));
+        let g = rail.material.shear_modulus_pa();
         let (bending, i2, kappa) = match direction {
             Direction::Vertical => (
                 true,
@@ -290,7 +285,11 @@ impl Track {
             }
             f
         };
-        let (rho, e, a) = (rail.density_kg_per_m3, rail.youngs_modulus_pa, rail.area_m2);
+        let (rho, e, a) = (
+            rail.material.density_kg_per_m3,
+            rail.material.youngs_modulus_pa,
+            rail.area_m2,
+        );
         for el in 0..x.len() - 1 {
             let l = x[el + 1] - x[el];
             let (d0, d1) = (node_dof[el], node_dof[el + 1]);
@@ -444,17 +443,14 @@ impl Track {
     /// The track of a rolling case: its scenario's rail length, sleeper layout and pad length,
     /// the case's pad, ballast and sleeper material (the half sleeper block's mass), 54E1 in the
     /// wheel's steel.
-    pub fn from_case(loaded: &crate::rolling::case::LoadedCase) -> Result<Track> {
+    pub fn from_case(loaded: &crate::model::case::LoadedCase) -> Result<Track> {
         let case = &loaded.case;
         let scenario = &loaded.scenario.scenario;
         let t = &scenario.track;
         let s = &t.sleeper;
-        let steel = loaded.scenario.wheel.material;
         let track = Track {
             rail: RailSection {
-                youngs_modulus_pa: steel.youngs_modulus_pa,
-                poisson_ratio: steel.poisson_ratio,
-                density_kg_per_m3: steel.density_kg_per_m3,
+                material: loaded.scenario.wheel.material,
                 ..RailSection::UIC54
             },
             length_m: t.length_m,

@@ -24,7 +24,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::explicit::Curve;
+use super::curve::Curve;
 use crate::{Error, Result};
 
 /// Knots of the Hermite curve in each smooth transition of a ramp.

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 pub use super::lateral::{LateralMotion, LateralRamp, LateralTable};
-use crate::contact::FrictionLaw;
+use crate::friction::FrictionLaw;
 use crate::input::read_json;
 use crate::scenario::LoadedScenario;
 use crate::{Error, Result};
@@ -38,17 +38,7 @@ pub struct RailPad {
     pub shear_fraction: f64,
 }
 
-/// Isotropic elastic material.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MaterialValues {
-    /// Young's modulus (Pa).
-    pub youngs_modulus_pa: f64,
-    /// Poisson's ratio.
-    pub poisson_ratio: f64,
-    /// Density (kg/m^3).
-    pub density_kg_per_m3: f64,
-}
+use crate::material::Material;
 
 /// Driving torque on the axle: a ramp from zero to `max_n_m` at `ramp_end_s`, then constant
 /// (Yang & Li 2019).
@@ -159,7 +149,7 @@ pub struct RollingCase {
     /// Ballast, per sleeper, vertical.
     pub ballast: SpringDamper,
     /// Sleeper material (concrete).
-    pub sleeper_material: MaterialValues,
+    pub sleeper_material: Material,
     /// Driving torque.
     pub torque: TorqueSpec,
     /// Prescribed longitudinal creepage instead of the torque (which must then be zero).

@@ -1,0 +1,55 @@
+//! What other modules add to the engine each step (contact) and at each output sample
+//! (histories, checkpoints): the [`AuxForces`] hooks.
+
+use super::state::OutputFields;
+use crate::mesh::P3;
+use crate::{Error, Result};
+
+/// Forces added by another module every step (contact).
+pub trait AuxForces {
+    /// Adds forces at time `time_s` for the state `u` (at t_n) and `v` (at t_{n-1/2}) into
+    /// `force` (N). Must not allocate.
+    fn add_forces(&mut self, time_s: f64, dt_s: f64, u: &[P3], v: &[P3], force: &mut [P3]);
+    /// Called after each history sample at `time_s` (the module writes its own histories).
+    fn on_sample(&mut self, _time_s: f64, _out_dir: &std::path::Path) -> Result<()> {
+        Ok(())
+    }
+    /// Extra columns this module appends to `histories.csv` (e.g. wheel vibration in a
+    /// co-rotating frame).
+    fn history_columns(&self) -> Vec<String> {
+        Vec::new()
+    }
+    /// Appends one `,value` per [`AuxForces::history_columns`] entry for the sample at
+    /// `time_s`, from the output fields at that instant (`reference` = node coordinates).
+    fn push_history_values(
+        &mut self,
+        _time_s: f64,
+        _reference: &[P3],
+        _output: &OutputFields,
+        _row: &mut String,
+    ) -> Result<()> {
+        Ok(())
+    }
+    /// State to keep in checkpoints (e.g. tangential contact forces).
+    fn checkpoint_state(&self) -> Vec<f64> {
+        Vec::new()
+    }
+    /// Restores what [`AuxForces::checkpoint_state`] returned.
+    fn restore_state(&mut self, state: &[f64]) -> Result<()> {
+        if state.is_empty() {
+            Ok(())
+        } else {
+            Err(Error::input(
+                "checkpoint",
+                "aux_state",
+                "checkpoint holds contact state this run does not have",
+            ))
+        }
+    }
+}
+
+/// No auxiliary forces.
+pub struct NoAux;
+impl AuxForces for NoAux {
+    fn add_forces(&mut self, _: f64, _: f64, _: &[P3], _: &[P3], _: &mut [P3]) {}
+}

@@ -1,0 +1,53 @@
+//! What the report's sections share: the runs as read, the page being written, and the
+//! analysis options.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use crate::analysis::RunAnalysis;
+use crate::identify::ModeRef;
+use crate::table::Table;
+
+/// A run directory as the report reads it.
+pub(super) struct Run {
+    pub(super) name: String,
+    pub(super) dir: PathBuf,
+    pub(super) histories: Table,
+    pub(super) analyses: Vec<RunAnalysis>,
+    pub(super) modes: Option<Vec<ModeRef>>,
+}
+
+/// The report page being written: its markdown, section headings and files.
+pub(super) struct Page {
+    pub(super) md: String,
+    pub(super) sections: Vec<String>,
+    pub(super) files: Vec<String>,
+}
+
+impl Page {
+    pub(super) fn new() -> Page {
+        Page {
+            md: String::new(),
+            sections: Vec::new(),
+            files: Vec::new(),
+        }
+    }
+
+    /// A level-2 heading, recorded as a section.
+    pub(super) fn heading(&mut self, text: &str) {
+        let _ = writeln!(self.md, "\n## {text}\n");
+        self.sections.push(text.to_string());
+    }
+}
+
+/// How the report analyses the vibration.
+#[derive(Clone, Debug, Default)]
+pub struct ReportOptions {
+    /// Start of the analysed window (s); None: each run's lateral-motion onset, else its first
+    /// sample (see [`crate::analysis`]).
+    pub from_s: Option<f64>,
+    /// End of the analysed window (s); None: the last sample.
+    pub to_s: Option<f64>,
+    /// Largest PSD bin spacing (Hz); None: [`crate::analysis::DEFAULT_RESOLUTION_HZ`].
+    pub resolution_hz: Option<f64>,
+}
