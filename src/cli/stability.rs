@@ -129,12 +129,8 @@ fn settings(args: &StabilityArgs) -> Result<Settings> {
     })
 }
 
-/// The command-line overrides applied to an operating point.
-fn apply_overrides(
-    args: &StabilityArgs,
-    model: &StabilityModel,
-    op: &mut OperatingPoint,
-) -> Result<()> {
+/// The ranges of the overrides that need no model, checked before the wheel's modes are solved.
+fn check_overrides(args: &StabilityArgs) -> Result<()> {
     if let Some(f) = args.normal_force {
         if !(f.is_finite() && f > 0.0) {
             return Err(Error::input(
@@ -143,16 +139,25 @@ fn apply_overrides(
                 format!("the normal force must be > 0 N (the wheel pressed on the rail), got {f}"),
             ));
         }
+    }
+    if let Some(v) = args.mu {
+        // The project's one friction-coefficient check; mu = 0 is allowed (no friction: the
+        // second-method check of the undamped frequencies).
+        squeal::friction::check_coefficient(v, "command line", "--mu", true)?;
+    }
+    Ok(())
+}
+
+/// The command-line overrides applied to an operating point.
+fn apply_overrides(
+    args: &StabilityArgs,
+    model: &StabilityModel,
+    op: &mut OperatingPoint,
+) -> Result<()> {
+    if let Some(f) = args.normal_force {
         op.normal_force_n = f;
     }
     if let Some(v) = args.mu {
-        if !(v.is_finite() && (0.0..=2.0).contains(&v)) {
-            return Err(Error::input(
-                "command line",
-                "--mu",
-                format!("must be in [0, 2], got {v}"),
-            ));
-        }
         op.mu = v;
     }
     if let Some(v) = args.xi {
@@ -206,13 +211,19 @@ fn apply_overrides(
 pub fn run(args: StabilityArgs) -> Result<()> {
     let settings = settings(&args)?;
     let sweep = args.sweep.as_deref().map(parse_sweep).transpose()?;
+    check_overrides(&args)?;
     let loaded = load_case(&args.case)?;
+    // The run's sample first: a time outside the run fails before the modes are solved.
+    let sample = match (&args.run, args.time_ms) {
+        (Some(dir), Some(t)) => Some(operating::read_run_sample(&loaded, dir, t)?),
+        _ => None,
+    };
     let t0 = std::time::Instant::now();
     let model = StabilityModel::build(&loaded, settings)?;
     let radius = model.wheel.nominal_radius_m;
-    let mut op = match (&args.run, args.time_ms) {
-        (Some(dir), Some(t)) => operating::from_run(&loaded, dir, t, radius, model.material)?,
-        _ => operating::from_case(
+    let mut op = match &sample {
+        Some(sample) => operating::from_run_sample(&loaded, sample, radius, model.material)?,
+        None => operating::from_case(
             &loaded,
             model.wheel.mass_kg,
             radius,

@@ -248,15 +248,31 @@ fn interpolate(t: &[f64], column: &[f64], time_s: f64) -> f64 {
     column[k - 1] + w * (column[k] - column[k - 1])
 }
 
-/// The operating point of a run directory at `time_ms`; `loaded` is the run's case (friction
-/// law, speed, wheel's start position).
-pub fn from_run(
-    loaded: &LoadedCase,
-    run_dir: &Path,
-    time_ms: f64,
-    nominal_radius_m: f64,
-    material: Material,
-) -> Result<OperatingPoint> {
+/// What a run directory says at one time: the contact forces, where the contact sits and where
+/// the wheel is, read and checked without the wheel's modal model (so that a bad `--time-ms`
+/// fails before the modes are solved).
+#[derive(Clone, Debug)]
+pub struct RunSample {
+    /// The run directory.
+    pub run_dir: std::path::PathBuf,
+    /// Time (ms).
+    pub time_ms: f64,
+    /// Normal force (N, > 0).
+    pub normal_force_n: f64,
+    /// Creep forces (Fx, Fy) on the wheel (N).
+    pub creep_force_n: [f64; 2],
+    /// Contact on the wheel (profile S, mm), on the rail (y, m) and its angle (deg); None for a
+    /// run written before these columns existed.
+    pub contact: Option<(f64, f64, f64)>,
+    /// Lateral displacement of the wheel centre (m; 0 if the run has no such column).
+    pub wheel_y_displacement_m: f64,
+    /// The wheel's position along the rail (m).
+    pub wheel_x_m: f64,
+}
+
+/// Read `contact_forces.csv` and `histories.csv` of `run_dir` at `time_ms` (linear between
+/// samples). Errors name the file and column, or `--time-ms` with the run's time range.
+pub fn read_run_sample(loaded: &LoadedCase, run_dir: &Path, time_ms: f64) -> Result<RunSample> {
     let path = run_dir.join("contact_forces.csv");
     let source = path.display().to_string();
     let table = Table::read(&path)?;
@@ -280,7 +296,8 @@ pub fn from_run(
             "command line",
             "--time-ms",
             format!(
-                "must lie within the run, [{:.3}, {:.3}] ms, got {time_ms}",
+                "must lie within the run {}, [{:.3}, {:.3}] ms, got {time_ms}",
+                run_dir.display(),
                 t0 * 1e3,
                 t1 * 1e3
             ),
@@ -288,11 +305,6 @@ pub fn from_run(
     }
     let at = |name: &str| -> Result<f64> { Ok(interpolate(t, col(name)?, time_s)) };
     let normal_force_n = at("normal_force_n")?;
-    let fx = at("longitudinal_creep_force_n")?;
-    let fy = at("lateral_creep_force_n")?;
-    let s_mm = at("contact_wheel_s_mm")?;
-    let rail_y = at("contact_rail_y_mm")? * 1e-3;
-    let angle = at("contact_angle_deg")?;
     if !(normal_force_n.is_finite() && normal_force_n > 0.0) {
         return Err(Error::input(
             &source,
@@ -303,29 +315,101 @@ pub fn from_run(
             ),
         ));
     }
-    let histories = Table::read(&run_dir.join("histories.csv"))?;
-    let wheel_x_m = loaded.scenario.scenario.wheel_position.x_m
-        + match (
-            histories.column("time_s"),
-            histories.column("wheel_centre_x_displacement_m"),
-        ) {
-            (Some(th), Some(x)) if !th.is_empty() => interpolate(th, x, time_s),
-            _ => 0.0,
-        };
-    let radius = nominal_radius_m + crate::geometry::s1002::height_mm(s_mm) * 1e-3;
-    // Curvatures of the profiles at the run's contact point (the wheel's tape circle then at
-    // rail y - S); the rigid profiles' own contact point where that gap is not Hertzian.
-    let wheel_y_m = rail_y - s_mm * 1e-3;
-    let curvature = match crate::kalker::geometry::curvatures_at(
-        nominal_radius_m,
-        |y| profiles::wheel_radius_offset_m(y, wheel_y_m),
-        |y| profiles::rail_top_height_m(y).unwrap_or(f64::NAN),
-        rail_y,
-        5e-4,
-    ) {
-        Ok((a, b)) => [a, b],
-        Err(_) => profile_geometry(wheel_y_m, nominal_radius_m)?.3,
+    let creep_force_n = [
+        at("longitudinal_creep_force_n")?,
+        at("lateral_creep_force_n")?,
+    ];
+    let geometry = [
+        "contact_wheel_s_mm",
+        "contact_rail_y_mm",
+        "contact_angle_deg",
+    ];
+    let contact = if geometry.iter().all(|c| table.column(c).is_some()) {
+        Some((at(geometry[0])?, at(geometry[1])? * 1e-3, at(geometry[2])?))
+    } else {
+        None
     };
+    let histories = Table::read(&run_dir.join("histories.csv"))?;
+    let history = |name: &str| match (histories.column("time_s"), histories.column(name)) {
+        (Some(th), Some(x)) if !th.is_empty() => interpolate(th, x, time_s),
+        _ => 0.0,
+    };
+    Ok(RunSample {
+        run_dir: run_dir.to_path_buf(),
+        time_ms,
+        normal_force_n,
+        creep_force_n,
+        contact,
+        wheel_y_displacement_m: history("wheel_centre_y_displacement_m"),
+        wheel_x_m: loaded.scenario.scenario.wheel_position.x_m
+            + history("wheel_centre_x_displacement_m"),
+    })
+}
+
+/// The operating point of a run directory at `time_ms`; `loaded` is the run's case (friction
+/// law, speed, wheel's start position).
+pub fn from_run(
+    loaded: &LoadedCase,
+    run_dir: &Path,
+    time_ms: f64,
+    nominal_radius_m: f64,
+    material: Material,
+) -> Result<OperatingPoint> {
+    let sample = read_run_sample(loaded, run_dir, time_ms)?;
+    from_run_sample(loaded, &sample, nominal_radius_m, material)
+}
+
+/// The operating point of a run sample (see [`read_run_sample`]). A run without the contact
+/// position columns (written before they existed) takes the rigid profiles' contact point at
+/// the wheel's lateral position then (the tape circle moved by the wheel centre's lateral
+/// displacement), which is said in the origin.
+pub fn from_run_sample(
+    loaded: &LoadedCase,
+    sample: &RunSample,
+    nominal_radius_m: f64,
+    material: Material,
+) -> Result<OperatingPoint> {
+    let source = sample
+        .run_dir
+        .join("contact_forces.csv")
+        .display()
+        .to_string();
+    let time_ms = sample.time_ms;
+    let normal_force_n = sample.normal_force_n;
+    let [fx, fy] = sample.creep_force_n;
+    let wheel_x_m = sample.wheel_x_m;
+    let (s_mm, rail_y, angle, curvature, geometry_note) = match sample.contact {
+        Some((s_mm, rail_y, angle)) => {
+            // Curvatures of the profiles at the run's contact point (the wheel's tape circle
+            // then at rail y - S); the rigid profiles' own contact point where that gap is not
+            // Hertzian.
+            let wheel_y_m = rail_y - s_mm * 1e-3;
+            let curvature = match crate::kalker::geometry::curvatures_at(
+                nominal_radius_m,
+                |y| profiles::wheel_radius_offset_m(y, wheel_y_m),
+                |y| profiles::rail_top_height_m(y).unwrap_or(f64::NAN),
+                rail_y,
+                5e-4,
+            ) {
+                Ok((a, b)) => [a, b],
+                Err(_) => profile_geometry(wheel_y_m, nominal_radius_m)?.3,
+            };
+            (s_mm, rail_y, angle, curvature, "")
+        }
+        None => {
+            let wheel_y_m = loaded.scenario.scenario.wheel_position.tape_circle_y_mm * 1e-3
+                + sample.wheel_y_displacement_m;
+            let (rail_y, s_mm, angle, curvature) = profile_geometry(wheel_y_m, nominal_radius_m)?;
+            (
+                s_mm,
+                rail_y,
+                angle,
+                curvature,
+                "; contact point of the rigid profiles (the run has no contact position columns)",
+            )
+        }
+    };
+    let radius = nominal_radius_m + crate::geometry::s1002::height_mm(s_mm) * 1e-3;
     let speed = loaded.case.speed_km_per_h / 3.6;
     let phi = -angle.to_radians().sin() / radius;
     let hertz =
@@ -364,7 +448,10 @@ pub fn from_run(
     }
     let r = result.ok_or_else(|| Error::Numerical("operating point: no Kalker solution".into()))?;
     Ok(OperatingPoint {
-        origin: format!("run {} at {time_ms} ms", run_dir.display()),
+        origin: format!(
+            "run {} at {time_ms} ms{geometry_note}",
+            sample.run_dir.display()
+        ),
         speed_m_per_s: speed,
         normal_force_n,
         creepages: r.creepages,
