@@ -18,6 +18,7 @@
 //! (2003) 497-507). docs/stability.md states the method, its checks and what is left out.
 
 pub mod banded;
+pub mod bench;
 pub mod contact;
 pub mod model;
 pub mod operating;
