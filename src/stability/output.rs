@@ -4,7 +4,9 @@
 
 use std::fmt::Write as _;
 
-use serde::Serialize;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
 
 use super::model::{PointAnalysis, Settings, StabilityModel};
 use super::operating::OperatingPoint;
@@ -42,7 +44,7 @@ pub struct RailSummary {
 }
 
 /// An unstable eigenvalue in brief.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Unstable {
     /// Frequency (Hz).
     pub frequency_hz: f64,
@@ -52,6 +54,49 @@ pub struct Unstable {
     pub dominant: String,
     /// Its energy share.
     pub share: f64,
+}
+
+/// What the run report shows of a `stability.json`: where the operating point came from, the
+/// band, and the unstable eigenvalues.
+#[derive(Clone, Debug)]
+pub struct StabilityBrief {
+    /// The file read.
+    pub path: String,
+    /// The operating point's origin (case file or run and time).
+    pub origin: String,
+    /// Eigenvalues were analysed up to this frequency (Hz).
+    pub fmax_hz: f64,
+    /// Unstable eigenvalues, largest growth first.
+    pub unstable: Vec<Unstable>,
+}
+
+/// Read the brief of a `stability.json` written by `squeal stability`; errors name the file
+/// and the field.
+pub fn read_brief(path: &Path) -> crate::Result<StabilityBrief> {
+    let name = path.display().to_string();
+    let value: serde_json::Value = crate::input::read_json(path)?;
+    let missing = |field: &str| {
+        crate::Error::input(
+            &name,
+            field,
+            "missing or of the wrong type (a stability.json of `squeal stability` has it)",
+        )
+    };
+    let origin = value["operating_point"]["origin"]
+        .as_str()
+        .ok_or_else(|| missing("operating_point.origin"))?
+        .to_string();
+    let fmax_hz = value["settings"]["fmax_hz"]
+        .as_f64()
+        .ok_or_else(|| missing("settings.fmax_hz"))?;
+    let unstable: Vec<Unstable> = serde_json::from_value(value["unstable"].clone())
+        .map_err(|e| crate::Error::input(&name, "unstable", e.to_string()))?;
+    Ok(StabilityBrief {
+        path: name,
+        origin,
+        fmax_hz,
+        unstable,
+    })
 }
 
 /// The whole output.
