@@ -608,3 +608,492 @@ fn unstable_eigenvalue_converges_as_the_wheel_modes_grow() {
         "5 kHz differs from 10 kHz by more than 2 %"
     );
 }
+
+/// A short track of the case-3 demo's supports for the fast check: 1.8 m of rail over three
+/// sleepers (0.3, 0.9, 1.5 m), meshed uniformly (20 mm along the rail, 10 / 20 mm in the
+/// section) so that the explicit model stays small.
+fn short_track_layout() -> squeal::mesh::track::TrackLayout {
+    let (loaded, _) = case3_track();
+    let mut layout = loaded.scenario.track_layout();
+    layout.length_m = 1.8;
+    layout.first_sleeper_x_m = 0.3;
+    layout.solution_zone_start_m = 0.0;
+    layout.solution_zone_length_m = 1.8;
+    layout.zone_element_length_m = 0.02;
+    layout.far_element_length_m = 0.02;
+    layout.running_zone = None;
+    layout.running_surface_element_mm = 10.0;
+    layout.section_element_mm = 20.0;
+    layout
+}
+
+/// Print the comparison in bands and return (rms relative difference, largest |level
+/// difference| in dB) over `band_hz`.
+fn summarise(c: &squeal::stability::rail_fe::RailComparison, band_hz: (f64, f64)) -> (f64, f64) {
+    let rel = c.relative_difference();
+    let db = c.level_difference_db();
+    let mut sum = 0.0;
+    let mut count = 0;
+    let mut worst_db: f64 = 0.0;
+    for (i, &f) in c.frequencies_hz.iter().enumerate() {
+        if f >= band_hz.0 && f <= band_hz.1 {
+            sum += rel[i] * rel[i];
+            count += 1;
+            worst_db = if db[i].abs() > worst_db.abs() {
+                db[i]
+            } else {
+                worst_db
+            };
+        }
+        if i % 10 == 0 {
+            println!(
+                "  {:?} {f:6.0} Hz: FE {:.3e} m/N, beam {:.3e} m/N, |dH|/|H| {:.3}, {:+.2} dB",
+                c.direction,
+                c.fe_m_per_n[i].norm(),
+                c.beam_m_per_n[i].norm(),
+                rel[i],
+                db[i]
+            );
+        }
+    }
+    let rms = (sum / count as f64).sqrt();
+    println!(
+        "{:?} at x = {:.3} m: {} elements, {} section nodes, {} steps of {:.3e} s in {:.1} s, window sigma {:.0} /s; {:.0}-{:.0} Hz: rms |dH|/|H| {:.3}, largest level difference {:+.2} dB",
+        c.direction, c.x_m, c.elements, c.section_nodes, c.steps, c.time_step_s, c.seconds,
+        c.window_decay_per_s, band_hz.0, band_hz.1, rms, worst_db
+    );
+    (rms, worst_db)
+}
+
+#[test]
+fn rail_beam_model_matches_the_fe_track_impulse_response_below_5_khz() {
+    use squeal::stability::rail::Direction;
+    use squeal::stability::rail_fe::{compare, ImpulseSettings};
+    let (loaded, _) = case3_track();
+    let layout = short_track_layout();
+    let freqs: Vec<f64> = (1..=100).map(|i| 50.0 * i as f64).collect();
+    let c = compare(
+        &layout,
+        &loaded.case,
+        loaded.scenario.wheel.material,
+        0.6,
+        Direction::Vertical,
+        &ImpulseSettings::default(),
+        &freqs,
+    )
+    .unwrap();
+    let (rms, worst_db) = summarise(&c, (100.0, 5000.0));
+    // Measured: rms 0.27, largest level difference 3.6 dB; on the finer mesh of the ignored
+    // test 0.28 and 3.7 dB, so the FE side is converged and the difference is the beam's: a
+    // rigid sleeper mass where the FE sleeper is an elastic block, the pads acting on the
+    // beam's axis where the FE pads pull on the rail foot, no cross-section deformation. The
+    // bounds catch a model error of the size this comparison found (free instead of held rail
+    // end rotations: rms 0.83, 10 dB) and leave the stated physics.
+    assert!(rms < 0.4, "rms relative difference {rms}");
+    assert!(worst_db.abs() < 5.0, "level difference {worst_db} dB");
+}
+
+/// The beam model against FE tracks in all three directions: the short track of the fast test
+/// meshed finer (10 mm along the rail, 6 / 12 mm in the section: the FE side's mesh
+/// convergence), and the case-3 demo's own track as the explicit runs mesh it (6 m, graded from
+/// 6 mm at the contact to 120 mm) at the demo's contact (x = 2.0 m). About 15 minutes on the
+/// 2-core machine: `cargo test --release --test stability -- --ignored --exact
+/// rail_beam_model_against_fe_tracks_in_three_directions --nocapture`.
+#[test]
+#[ignore]
+fn rail_beam_model_against_fe_tracks_in_three_directions() {
+    use squeal::stability::rail::Direction;
+    use squeal::stability::rail_fe::{compare, ImpulseSettings};
+    let (loaded, _) = case3_track();
+    let freqs: Vec<f64> = (1..=100).map(|i| 50.0 * i as f64).collect();
+    let mut fine = short_track_layout();
+    fine.zone_element_length_m = 0.01;
+    fine.far_element_length_m = 0.01;
+    fine.running_surface_element_mm = 6.0;
+    fine.section_element_mm = 12.0;
+    let demo = loaded.scenario.track_layout();
+    let demo_x = loaded.scenario.scenario.wheel_position.x_m;
+    for (name, layout, x) in [
+        ("short track, coarse", short_track_layout(), 0.6),
+        ("short track, fine", fine, 0.6),
+        ("case-3 demo track", demo, demo_x),
+    ] {
+        for d in [
+            Direction::Vertical,
+            Direction::Lateral,
+            Direction::Longitudinal,
+        ] {
+            println!("{name}:");
+            let c = compare(
+                &layout,
+                &loaded.case,
+                loaded.scenario.wheel.material,
+                x,
+                d,
+                &ImpulseSettings::default(),
+                &freqs,
+            )
+            .unwrap();
+            let (rms, worst) = summarise(&c, (100.0, 5000.0));
+            assert!(rms.is_finite() && worst.is_finite());
+        }
+    }
+}
+
+/// The explicit engine against the eigenvalue on a small model: a 0.4 kg slider (a point mass,
+/// one contact node) pressed with 500 N on a belt (a steel plate moving at `v_b`) with the
+/// case's falling friction, held along the belt by a spring to the ground. The engine's own
+/// contact (penalty, falling friction evaluated per node and step from the slip of the step)
+/// integrates it; the stability analysis (the slider's mode on its spring as a one-coordinate
+/// body, the Coulomb law with the friction slope at `v_b`) predicts the growth
+/// `-(c + N dmu/dv) / 2m` and the frequency. A point has no rocking, so the friction cannot
+/// couple the sliding to a tilt (the sprag mode a block on a belt adds), and its bounce on the
+/// penalty spring does not feed back into the sliding: the two models then have the same
+/// physics, and the check is of the engine's friction against the linearisation. The slider
+/// starts at its sliding equilibrium `k x = mu(v_b) N` with a velocity of 1 % of `v_b`, the
+/// small disturbance that grows. The growth is the
+/// least-squares slope of the log of the velocity peaks while they stay below 30 % of `v_b`
+/// (the slip speed stays near `v_b`: the linear range).
+#[test]
+fn explicit_slider_on_a_falling_friction_belt_grows_at_the_predicted_rate() {
+    use squeal::contact::{ContactPair, FrictionLaw};
+    use squeal::explicit::model::{Model, MotionKind, Spring};
+    use squeal::explicit::{Curve, Formulation, Solver};
+    use squeal::material::Material;
+    use squeal::mesh::cuboid;
+    use squeal::stability::operating::friction_at;
+    let steel = Material::STEEL;
+    let law = FrictionLaw::Falling {
+        mu_static: 0.5,
+        mu_dynamic: 0.32,
+        decay_s_per_m: 6.0,
+    };
+    // About 100 /s of growth at 300 Hz: a dozen cycles in the linear range.
+    let (belt_m_per_s, load_n, mass_kg, spring_frequency_hz) = (0.2, 250.0, 0.4, 300.0);
+    let plate = cuboid([30, 10, 1], [0.6, 0.2, 0.02], 1);
+    let top: std::collections::HashSet<usize> = plate.node_sets["z1"].iter().copied().collect();
+    let materials = [(1, steel)].into_iter().collect();
+    let mut model = Model::from_mesh(plate, &materials, Formulation::default(), "test").unwrap();
+    model
+        .mesh
+        .node_sets
+        .insert("plate".into(), (0..model.mesh.nodes.len()).collect());
+    // The slider over the middle of a face, on the plate's top (z = 0.02 m).
+    let slider = model
+        .add_point_mass("slider", [0.11, 0.11, 0.02], mass_kg)
+        .unwrap();
+    let faces: Vec<[usize; 4]> = model
+        .mesh
+        .boundary_faces()
+        .into_iter()
+        .map(|(f, _)| f)
+        .filter(|f| f.iter().all(|n| top.contains(n)))
+        .collect();
+    let mut pair = ContactPair::new(
+        "slider_on_belt",
+        &model.mesh,
+        vec![slider],
+        faces,
+        0.1,
+        steel.bulk_modulus_pa(),
+        law,
+    )
+    .unwrap();
+    let k_n_per_m = mass_kg * (std::f64::consts::TAU * spring_frequency_hz).powi(2);
+    model
+        .add_spring(Spring {
+            name: "hold".into(),
+            node_a: slider,
+            node_b: None,
+            stiffness_n_per_m: [k_n_per_m, 0.0, 0.0],
+            damping_n_s_per_m: [0.0; 3],
+        })
+        .unwrap();
+    model
+        .add_load("slider", [0.0, 0.0, -load_n], Curve::constant(1.0))
+        .unwrap();
+    // The belt: still during the preload (held at t = 0), at v_b from then on.
+    model.fix_set("plate", [false, true, true]).unwrap();
+    model
+        .prescribe(
+            "plate",
+            0,
+            MotionKind::Velocity,
+            Curve::new(
+                vec![0.0, 1e-9, 1.0],
+                vec![0.0, belt_m_per_s, belt_m_per_s],
+                "belt",
+            )
+            .unwrap(),
+        )
+        .unwrap();
+    let bound = pair.time_step_bound_s(&model.nodal_mass_kg);
+    model.register_time_step_bound("contact", bound);
+    let mut solver = Solver::new(model, None).unwrap();
+    // Press the slider on without friction, then put it at its sliding equilibrium and let
+    // the belt run.
+    let saved = pair.suspend_friction();
+    // Settle with mass damping at 2000 /s (the bounce on the penalty spring, about 4.7 kHz,
+    // then decays as exp(-1000 t): 1e-13 after 30 ms), the time held at 0 so that the belt
+    // stays still (as the engine's own preload does).
+    solver.model.mass_damping_per_s = 2000.0;
+    let settle_steps = (0.03 / solver.dt_s).ceil() as usize;
+    for _ in 0..settle_steps {
+        solver.step_with(&mut pair, false, false).unwrap();
+        solver.time_s = 0.0;
+    }
+    solver.model.mass_damping_per_s = 0.0;
+    solver.v[slider] = [0.0; 3];
+    let normal_n = pair.resultants().0[2];
+    let (mu, slope) = friction_at(&law, belt_m_per_s);
+    solver.u[slider][0] += mu * normal_n / k_n_per_m;
+    // The disturbance that grows: 1 % of the belt speed.
+    solver.v[slider][0] = 0.01 * belt_m_per_s;
+    pair.resume_friction(saved);
+    // The prediction.
+    let omega = std::f64::consts::TAU * spring_frequency_hz;
+    let wheel = ModalBody {
+        dofs: vec![dof(
+            Body::Wheel,
+            0,
+            omega,
+            0.0,
+            [1.0 / mass_kg.sqrt(), 0.0, 0.0],
+        )],
+        gyroscopic: Vec::new(),
+        damping_coupling: Vec::new(),
+    };
+    let mut contact =
+        TangentialLaw::coulomb(normal_n, 1.0e9, belt_m_per_s, [-1.0, 0.0], mu).unwrap();
+    contact.friction_slope_s_per_m = slope;
+    let predicted = CoupledSystem {
+        wheel,
+        rail: ModalBody::default(),
+        contact: contact.linear_contact(&ContactFrame::wheel_rail(0.0)),
+    }
+    .eigen()
+    .unwrap()[0]
+        .clone();
+    // The explicit run: the slider's velocity along the belt, every step.
+    let duration_s = 0.04;
+    let t0 = solver.time_s;
+    let mut history: Vec<(f64, f64)> = Vec::new();
+    while solver.time_s - t0 < duration_s {
+        solver.step_with(&mut pair, false, false).unwrap();
+        history.push((solver.time_s - t0, solver.v[slider][0]));
+    }
+    // Positive peaks of the velocity in the linear range.
+    let peaks: Vec<(f64, f64)> = history
+        .windows(3)
+        .filter(|w| w[1].1 > w[0].1 && w[1].1 >= w[2].1 && w[1].1 > 0.0)
+        .map(|w| w[1])
+        .filter(|&(_, v)| v < 0.3 * belt_m_per_s)
+        .collect();
+    assert!(peaks.len() >= 5, "{} peaks", peaks.len());
+    let n = peaks.len() as f64;
+    let (mt, ml) = (
+        peaks.iter().map(|p| p.0).sum::<f64>() / n,
+        peaks.iter().map(|p| p.1.ln()).sum::<f64>() / n,
+    );
+    let growth = peaks
+        .iter()
+        .map(|p| (p.0 - mt) * (p.1.ln() - ml))
+        .sum::<f64>()
+        / peaks.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
+    let frequency_hz = (n - 1.0) / (peaks[peaks.len() - 1].0 - peaks[0].0);
+    println!(
+        "slider {mass_kg} kg on {k_n_per_m:.4e} N/m, N {normal_n:.1} N, mu {mu:.4}, dmu/dv {slope:.4} s/m, step {:.3e} s",
+        solver.dt_s
+    );
+    println!(
+        "eigenvalue: {:.2} Hz, growth {:+.2} /s; explicit: {frequency_hz:.2} Hz, growth {growth:+.2} /s over {} peaks ({:.2e} to {:.2e} m/s)",
+        predicted.frequency_hz,
+        predicted.growth_rate_per_s,
+        peaks.len(),
+        peaks[0].1,
+        peaks[peaks.len() - 1].1
+    );
+    // The growth within 3 %: over a velocity amplitude A the falling law's exponential gives the
+    // cycle-averaged slope mu'(v_b) 2 I_1(c A) / (c A) = mu'(v_b) (1 + (c A)^2 / 8 + ...), 1.6 %
+    // more at the largest peak fitted (A = 0.3 v_b, c = 6 s/m); the engine's step error,
+    // (w dt)^2 / 24 = 1e-6, is far below. The frequency within 0.5 % (the fit of peak times
+    // to whole periods of the 3 us steps: 1e-3 of a period).
+    assert!(
+        (growth / predicted.growth_rate_per_s - 1.0).abs() < 0.03,
+        "growth {growth} vs {}",
+        predicted.growth_rate_per_s
+    );
+    assert!(
+        (frequency_hz / predicted.frequency_hz - 1.0).abs() < 0.005,
+        "frequency {frequency_hz} vs {}",
+        predicted.frequency_hz
+    );
+}
+
+/// The demo80 runs (`squeal simulate --scenario data/scenarios/caseN-demo80.json --out
+/// DIR/caseN-demo80`, 80 ms on the demo80 meshes, 11-17 minutes each): read from the directory
+/// `SQUEAL_DEMO80_RUNS` names, else run here into a temporary directory.
+fn demo80_run(case: &str) -> std::path::PathBuf {
+    use squeal::rolling::{simulate, SimulateOptions, StopFlag};
+    let name = format!("{case}-demo80");
+    if let Some(dir) = std::env::var_os("SQUEAL_DEMO80_RUNS") {
+        return std::path::PathBuf::from(dir).join(name);
+    }
+    let dir = std::env::temp_dir()
+        .join(format!("squeal_demo80_{}", std::process::id()))
+        .join(&name);
+    let loaded = squeal::model::case::load_case(std::path::Path::new(&format!(
+        "data/scenarios/{name}.json"
+    )))
+    .unwrap();
+    let record = simulate(
+        &loaded,
+        &SimulateOptions {
+            out_dir: dir.clone(),
+            resume: false,
+            progress: false,
+            end_time_s: None,
+            stop: StopFlag::new(),
+        },
+    )
+    .unwrap();
+    assert_eq!(record.run.status, "completed", "{name}");
+    dir
+}
+
+/// Least-squares slope of `ln ridge` against time over [from_s, to_s] (the ridge's own
+/// samples, NaN outside the cone of influence left out).
+fn ridge_growth(g: &squeal::growth::GrowthAnalysis, band: usize, from_s: f64, to_s: f64) -> f64 {
+    let pts: Vec<(f64, f64)> = g
+        .time_s
+        .iter()
+        .zip(&g.bands[band].ridge)
+        .filter(|(t, r)| **t >= from_s && **t <= to_s && r.is_finite() && **r > 0.0)
+        .map(|(t, r)| (*t, r.ln()))
+        .collect();
+    let n = pts.len() as f64;
+    let (mt, ml) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    pts.iter().map(|p| (p.0 - mt) * (p.1 - ml)).sum::<f64>()
+        / pts.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>()
+}
+
+/// The stability analysis against the explicit engine on the demo cases: at the saturated
+/// case-file operating point (eta 0.43 %, Kalker's lateral creepage at the first saturation of
+/// case 3, docs/operating-point.md; Kalker's exact law), the unstable eigenvalues and, in the
+/// band +-5 % of each, the growth of the n >= 1 rim vibration of the 80 ms demo run (wavelet
+/// ridge, `squeal growth`'s method) after the lateral motion has stopped (32-80 ms): case 5
+/// (falling friction), where the explicit run's n >= 1 vibration keeps growing, and case 3
+/// (Coulomb), where it does not. Prints the comparison; asserts that the analysis predicts
+/// unstable modes exactly in the case whose explicit n >= 1 vibration grows (the growth rates
+/// are compared in docs/stability.md). Run: `SQUEAL_DEMO80_RUNS=DIR cargo test --release
+/// --test stability -- --ignored --exact stability_against_the_explicit_demo80_runs
+/// --nocapture` (without the variable the two runs are made first, about 30 minutes).
+#[test]
+#[ignore]
+fn stability_against_the_explicit_demo80_runs() {
+    use squeal::growth::{band_growth, read_column, Band};
+    use squeal::stability::model::{Settings, StabilityModel};
+    use squeal::stability::operating::from_case;
+    let eta = 0.0043;
+    let (from_s, to_s) = (0.032, 0.080);
+    let mut agreement = Vec::new();
+    for case in ["case5", "case3"] {
+        let loaded = squeal::model::case::load_case(std::path::Path::new(&format!(
+            "data/scenarios/{case}-demo80.json"
+        )))
+        .unwrap();
+        let model = StabilityModel::build(&loaded, Settings::default()).unwrap();
+        let op = from_case(
+            &loaded,
+            model.wheel.mass_kg,
+            model.wheel.nominal_radius_m,
+            Some(eta),
+            model.material,
+        )
+        .unwrap();
+        let (rail, _) = model.rail(op.wheel_x_m).unwrap();
+        let wheel = model.wheel_body(&op).unwrap();
+        let a = model.analyse(&op, &wheel, &rail).unwrap();
+        let unstable = a.unstable();
+        println!(
+            "{case}: case-file point, eta {:.2} %, creep/bound {:.3}, mu {:.3}, dmu/dv {:.3} s/m: {} unstable eigenvalues",
+            100.0 * eta,
+            a.law.creep_over_bound(),
+            op.mu,
+            op.friction_slope_s_per_m,
+            unstable.len()
+        );
+        let run = demo80_run(case);
+        let series = read_column(&run, "rim_point_minus_mean_lateral_velocity_m_per_s").unwrap();
+        // The explicit run's n >= 1 rms over the first and last 8 ms of the window.
+        let rms = |a: f64, b: f64| {
+            let dt = 1.0 / series.sample_rate_hz;
+            let v: Vec<f64> = series
+                .values
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| {
+                    let t = series.start_time_s + *k as f64 * dt;
+                    t >= a && t < b
+                })
+                .map(|(_, v)| v * v)
+                .collect();
+            (v.iter().sum::<f64>() / v.len() as f64).sqrt()
+        };
+        let (r0, r1) = (rms(from_s, from_s + 0.008), rms(to_s - 0.008, to_s));
+        agreement.push((case, !unstable.is_empty(), r1 > r0));
+        println!(
+            "  explicit n >= 1 rms {r0:.3} m/s ({:.0}-{:.0} ms) -> {r1:.3} m/s ({:.0}-{:.0} ms): {:+.1} /s",
+            from_s * 1e3,
+            from_s * 1e3 + 8.0,
+            to_s * 1e3 - 8.0,
+            to_s * 1e3,
+            (r1 / r0).ln() / (to_s - from_s - 0.008)
+        );
+        if unstable.is_empty() {
+            continue;
+        }
+        let bands: Vec<Band> = unstable
+            .iter()
+            .map(|e| Band {
+                name: e.dominant().label.clone(),
+                low_hz: 0.95 * e.frequency_hz,
+                high_hz: 1.05 * e.frequency_hz,
+            })
+            .collect();
+        let g = band_growth(&series, &bands, 0.016, 0.008).unwrap();
+        println!("  predicted (Hz, 1/s, dominant)  |  explicit ridge growth 32-80 ms in +-5 % (1/s), mean ridge (m/s)");
+        for (k, e) in unstable.iter().enumerate() {
+            let ridge: Vec<f64> = g.bands[k]
+                .ridge
+                .iter()
+                .zip(&g.time_s)
+                .filter(|(r, t)| r.is_finite() && **t >= from_s && **t <= to_s)
+                .map(|(r, _)| *r)
+                .collect();
+            println!(
+                "  {:7.1} Hz {:+8.2} /s  {:32} | {:+8.1} /s  {:.4}",
+                e.frequency_hz,
+                e.growth_rate_per_s,
+                format!(
+                    "{} ({:.0} %)",
+                    e.dominant().label,
+                    100.0 * e.participation[0].share
+                ),
+                ridge_growth(&g, k, from_s, to_s),
+                ridge.iter().sum::<f64>() / ridge.len().max(1) as f64
+            );
+        }
+    }
+    // The analysis finds unstable modes where the explicit run's n >= 1 vibration grows, and
+    // none where it does not.
+    for (case, predicted, grows) in agreement {
+        assert_eq!(
+            predicted, grows,
+            "{case}: unstable predicted {predicted}, explicit growth {grows}"
+        );
+    }
+}

@@ -24,6 +24,7 @@ pub mod model;
 pub mod operating;
 pub mod output;
 pub mod rail;
+pub mod rail_fe;
 pub mod rail_modes;
 pub mod sweep;
 pub mod system;
