@@ -1074,7 +1074,7 @@ fn stability_against_the_explicit_demo80_runs() {
             })
             .collect();
         let g = band_growth(&series, &bands, 0.016, 0.008).unwrap();
-        println!("  predicted (Hz, 1/s, dominant)  |  explicit ridge growth 32-80 ms in +-5 % (1/s), mean ridge (m/s)");
+        println!("  per band +-5 %: predicted eigenvalue | explicit ridge growth over 32-80 ms, mean ridge");
         for (k, e) in unstable.iter().enumerate() {
             let ridge: Vec<f64> = g.bands[k]
                 .ridge
@@ -1084,7 +1084,7 @@ fn stability_against_the_explicit_demo80_runs() {
                 .map(|(r, _)| *r)
                 .collect();
             println!(
-                "  {:7.1} Hz {:+8.2} /s  {:32} | {:+8.1} /s  {:.4}",
+                "  {:7.1} Hz: predicted {:+8.2} /s  {:34} | explicit {:+7.1} /s, ridge {:.4} m/s",
                 e.frequency_hz,
                 e.growth_rate_per_s,
                 format!(
