@@ -10,9 +10,9 @@
 //! The same from the command line: `squeal axisym --wheel data/wheels/ns_intercity_920.json
 //! --clamp axle-ends --fmax-hz 5000`.
 
-use squeal::axisym::{solve, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions};
 use squeal::geometry::wheel::WheelSpec;
 use squeal::identify::ModeFamily;
+use squeal::modal::axisym::{solve, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions};
 
 fn main() -> squeal::Result<()> {
     let wheel: WheelSpec =

@@ -23,6 +23,7 @@ fn main() -> squeal::Result<()> {
         &SimulateOptions {
             out_dir: out.clone(),
             resume: false,
+            overwrite: false,
             progress: false,
             end_time_s: None,
             stop: StopFlag::new(),

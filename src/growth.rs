@@ -116,6 +116,8 @@ pub fn bands_for_modes(
 
 /// Ridges and growth rates of `bands` in `series` from `from_s` on, over windows of
 /// `window_s`.
+///
+/// Kept in one piece: the ridge, its windows and the fitted rates share the band's wavelet power.
 pub fn band_growth(
     series: &TimeSeries,
     bands: &[Band],

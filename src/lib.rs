@@ -5,7 +5,6 @@
 //! name says otherwise (e.g. `_mm` in profile tables).
 
 pub mod analysis;
-pub mod axisym;
 pub mod contact;
 pub mod error;
 pub mod explicit;
@@ -13,7 +12,6 @@ pub mod fem;
 pub mod friction;
 pub mod geometry;
 pub mod growth;
-pub mod hammer;
 pub mod identify;
 pub mod input;
 pub mod kalker;
@@ -21,6 +19,7 @@ pub mod material;
 pub mod mesh;
 pub mod modal;
 pub mod model;
+pub mod output;
 pub mod pipeline;
 pub mod report;
 pub mod rolling;

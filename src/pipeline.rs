@@ -26,7 +26,9 @@ pub type ModesStage = dyn Fn(&Path) -> Result<()>;
 /// the axle and are the same either way.
 pub fn axisym_modes_stage(wheel: crate::geometry::wheel::WheelSpec) -> Box<ModesStage> {
     Box::new(move |dir: &Path| -> Result<()> {
-        use crate::axisym::{solve, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions};
+        use crate::modal::axisym::{
+            solve, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions,
+        };
         let model = AxisymModel::from_wheel(
             &wheel,
             WheelModelOptions {
@@ -66,33 +68,35 @@ pub struct PipelineSummary {
     pub stage_wall_s: Vec<(String, f64)>,
 }
 
-/// Runs the wheel modes (`modes` writes `modes.json` into the run directory; may be None), the
-/// case and the report.
+/// Runs the case (replacing an earlier run of it in the report folder), the wheel modes
+/// (`modes` writes `modes.json` into the run directory; may be None) and the report.
 pub fn run_pipeline(
     case: &LoadedCase,
     modes: Option<&ModesStage>,
     opts: &PipelineOptions,
 ) -> Result<PipelineSummary> {
     let run_dir = opts.out_dir.join("runs").join(&case.case.name);
-    std::fs::create_dir_all(&run_dir).map_err(|e| Error::io(&run_dir, e))?;
     let mut stages = Vec::new();
-    if let Some(f) = modes {
-        let t = std::time::Instant::now();
-        f(&run_dir)?;
-        stages.push(("wheel modes".to_string(), t.elapsed().as_secs_f64()));
-    }
     let t = std::time::Instant::now();
+    // The pipeline owns its report folder: a new default run replaces the old run whole, so
+    // no file of it is left beside the new one.
     let record = simulate(
         case,
         &SimulateOptions {
             out_dir: run_dir.clone(),
             resume: false,
+            overwrite: true,
             progress: opts.progress,
             end_time_s: opts.end_time_s,
             stop: StopFlag::new(),
         },
     )?;
     stages.push(("rolling simulation".to_string(), t.elapsed().as_secs_f64()));
+    if let Some(f) = modes {
+        let t = std::time::Instant::now();
+        f(&run_dir)?;
+        stages.push(("wheel modes".to_string(), t.elapsed().as_secs_f64()));
+    }
     if record.run.status != "completed" {
         return Err(Error::Numerical(format!(
             "the default case stopped: {} (output kept in {})",

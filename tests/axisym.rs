@@ -4,9 +4,11 @@
 
 use std::f64::consts::TAU;
 
-use squeal::axisym::{self, AxisymModel, AxisymOptions, Material, WheelClamp, WheelModelOptions};
 use squeal::geometry::wheel::WheelSpec;
 use squeal::identify::ModeFamily;
+use squeal::modal::axisym::{
+    self, AxisymModel, AxisymOptions, Material, WheelClamp, WheelModelOptions,
+};
 
 const STEEL: Material = Material {
     youngs_modulus_pa: 210e9,

@@ -66,6 +66,36 @@ fn writes_modes_json_and_csv() {
         "index,frequency_hz,family,nodal_circles,nodal_diameters,harmonic,residual\n"
     ));
     assert_eq!(csv.lines().count(), modes.len() + 1);
+    // The paper's modal chart beside the tables: the FE series of the zero-circle axial modes
+    // drawn; with a hammer test, its measured series too.
+    let png = std::fs::read(dir.join("modal_chart.png")).unwrap();
+    assert!(png.starts_with(b"\x89PNG"));
+    let svg = std::fs::read_to_string(dir.join("modal_chart.svg")).unwrap();
+    assert!(
+        svg.contains("Axial m=0, FE") && !svg.contains("measured"),
+        "FE series"
+    );
+    let with_test = run(&[
+        "axisym",
+        "--wheel",
+        WHEEL,
+        "--harmonics",
+        "2..4",
+        "--fmax-hz",
+        "3000",
+        "--element-size-mm",
+        "20",
+        "--without-axle",
+        "--clamp",
+        "hub-bore",
+        "--hammer",
+        "data/hammer/synthetic_example.csv",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(with_test.status.success());
+    let svg = std::fs::read_to_string(dir.join("modal_chart.svg")).unwrap();
+    assert!(svg.contains("measured"), "measured series");
     std::fs::remove_dir_all(&dir).ok();
 }
 

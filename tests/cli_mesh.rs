@@ -307,3 +307,80 @@ fn profiles_print_point_tables() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--step-mm"));
 }
+
+#[test]
+fn profile_contact_scan_and_gap_tables() {
+    let csv_rows = |out: &std::process::Output, header: &str| -> Vec<Vec<f64>> {
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+        assert_eq!(lines.next(), Some(header));
+        lines
+            .map(|l| {
+                l.split(',')
+                    .map(|v| v.parse::<f64>().expect("number"))
+                    .collect()
+            })
+            .collect()
+    };
+    let out = squeal()
+        .args([
+            "profile",
+            "contact",
+            "--from-mm",
+            "-2",
+            "--to-mm",
+            "2",
+            "--step-mm",
+            "1",
+        ])
+        .output()
+        .expect("run");
+    let rows = csv_rows(
+        &out,
+        "wheel_y_mm,contact_y_mm,curvature_x_per_m,curvature_y_per_m",
+    );
+    assert_eq!(rows.len(), 5);
+    // A wheel of radius 0.46 m: the rolling curvature 1 / (2 R) is about 1.09 /m at every
+    // position (R changes by millimetres across the tread).
+    for r in &rows {
+        assert!((r[2] - 1.0 / (2.0 * 0.46)).abs() < 0.02, "{r:?}");
+        assert!(r[3] > 0.0, "{r:?}");
+    }
+    let out = squeal()
+        .args(["profile", "gap", "--wheel-y-mm", "0", "--step-mm", "0.5"])
+        .output()
+        .expect("run");
+    let rows = csv_rows(&out, "y_mm,gap_um,rail_height_um,wheel_radius_increment_um");
+    assert!(rows.len() > 100);
+    // The gap is measured from the closest approach (found on a 0.01 mm grid), so it is never
+    // negative beyond that grid's rounding and is about zero at the contact.
+    let smallest = rows.iter().map(|r| r[1]).fold(f64::INFINITY, f64::min);
+    assert!(
+        smallest > -0.5 && smallest < 5.0,
+        "smallest gap {smallest} um"
+    );
+    for (args, field) in [
+        (
+            vec!["profile", "contact", "--from-mm", "3", "--to-mm", "1"],
+            "--to-mm",
+        ),
+        (
+            vec!["profile", "gap", "--wheel-radius-m", "5"],
+            "--wheel-radius-m",
+        ),
+        (
+            vec!["profile", "gap", "--wheel-y-mm", "-40"],
+            "--wheel-y-mm",
+        ),
+    ] {
+        let bad = squeal().args(&args).output().expect("run");
+        assert_eq!(bad.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&bad.stderr);
+        assert!(err.contains(field) && err.contains("must be in"), "{err}");
+    }
+}

@@ -31,6 +31,8 @@ fn coarse_wheel_writes_mode_files() {
         "modes.vtu",
         "comparison.md",
         "comparison.csv",
+        "modal_chart.png",
+        "modal_chart.svg",
     ] {
         assert!(out.join(f).exists(), "{f} missing");
     }
@@ -111,6 +113,8 @@ fn hex8_option_selects_the_element_and_defaults_to_incompatible() {
         let modes: Vec<squeal::identify::ModeRef> =
             serde_json::from_str(&std::fs::read_to_string(out.join("modes.json")).unwrap())
                 .unwrap();
+        // The modal chart is written without a hammer test too.
+        assert!(out.join("modal_chart.svg").exists());
         modes[0].frequency_hz
     };
     let exact = 1.8751f64.powi(2) / (2.0 * std::f64::consts::PI * 0.4f64.powi(2))

@@ -201,3 +201,158 @@ fn bad_lateral_motion_and_forward_guide_exit_2_and_write_nothing() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn bench_rolling_splits_a_step_and_refuses_bad_step_counts() {
+    let bench = |steps: &str| {
+        squeal()
+            .args([
+                "bench",
+                "rolling",
+                "--scenario",
+                "data/scenarios/case3-ci.json",
+                "--steps",
+                steps,
+            ])
+            .output()
+            .expect("run")
+    };
+    let out = bench("5");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    let value = |key: &str| -> f64 {
+        text.split_whitespace()
+            .find_map(|w| w.strip_prefix(&format!("{key}=")))
+            .unwrap_or_else(|| panic!("{key} missing in {text}"))
+            .parse()
+            .expect("number")
+    };
+    // Parts are timed apart, so only their signs and the share's range are certain.
+    let (step, elements, contact) = (
+        value("ms_per_step"),
+        value("elements_ms"),
+        value("contact_ms"),
+    );
+    assert!(step > 0.0 && elements > 0.0 && contact > 0.0, "{text}");
+    let share = value("contact_share");
+    assert!(share > 0.0 && share < 1.5, "{text}");
+    assert_eq!(value("elements"), 9702.0, "the tiny model's element count");
+    let bad = bench("0");
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--steps"));
+}
+
+/// A run directory is never overwritten by mistake: a non-empty folder is refused (the old
+/// files untouched), `--overwrite` replaces it whole, `--resume` without a checkpoint is refused
+/// before anything is created; a report's name cannot leave the reports folder, and a failed
+/// report leaves nothing behind.
+#[test]
+fn runs_and_reports_are_never_overwritten_or_misplaced() {
+    let dir = temp_dir("safety");
+    let run = dir.join("run");
+    std::fs::create_dir_all(&run).unwrap();
+    std::fs::write(run.join("modes.json"), "[]").unwrap();
+    let simulate = |extra: &[&str]| {
+        squeal()
+            .args([
+                "simulate",
+                "--scenario",
+                "data/scenarios/case3-ci.json",
+                "--end-time-ms",
+                "0.2",
+                "--quiet",
+                "--out",
+            ])
+            .arg(&run)
+            .args(extra)
+            .output()
+            .expect("run")
+    };
+    let refused = simulate(&[]);
+    assert_eq!(refused.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        err.contains("--out") && err.contains("--overwrite"),
+        "{err}"
+    );
+    let names: Vec<_> = std::fs::read_dir(&run).unwrap().collect();
+    assert_eq!(names.len(), 1, "the refused run wrote into the folder");
+    let replaced = simulate(&["--overwrite"]);
+    assert!(
+        replaced.status.success(),
+        "{}",
+        String::from_utf8_lossy(&replaced.stderr)
+    );
+    assert!(
+        !run.join("modes.json").exists(),
+        "the old run's file stayed"
+    );
+    assert!(run.join("histories.csv").exists());
+
+    let fresh = dir.join("never");
+    let resumed = squeal()
+        .args([
+            "simulate",
+            "--scenario",
+            "data/scenarios/case3-ci.json",
+            "--resume",
+            "--out",
+        ])
+        .arg(&fresh)
+        .output()
+        .expect("run");
+    assert_eq!(resumed.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&resumed.stderr).contains("--resume"));
+    assert!(!fresh.exists(), "a refused resume created its folder");
+
+    let reports = dir.join("reports");
+    for name in ["../escape", "a/b", "..", ".hidden"] {
+        let out = squeal()
+            .args([
+                "report",
+                &run.display().to_string(),
+                "--name",
+                name,
+                "--reports",
+            ])
+            .arg(&reports)
+            .output()
+            .expect("run");
+        assert_eq!(out.status.code(), Some(2), "{name}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("--name"));
+    }
+    assert!(!dir.join("escape").exists() && !reports.exists());
+    // A report over a folder without histories fails and leaves no report folder.
+    let empty = dir.join("empty-run");
+    std::fs::create_dir_all(&empty).unwrap();
+    let failed = squeal()
+        .args([
+            "report",
+            &empty.display().to_string(),
+            "--name",
+            "x",
+            "--reports",
+        ])
+        .arg(&reports)
+        .output()
+        .expect("run");
+    assert_ne!(failed.status.code(), Some(0));
+    assert!(
+        !reports.join("x").exists() && !has_stage(&reports),
+        "the failed report left files"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Whether a leftover hidden stage folder sits in `dir`.
+fn has_stage(dir: &Path) -> bool {
+    std::fs::read_dir(dir).is_ok_and(|entries| {
+        entries
+            .flatten()
+            .any(|e| e.file_name().to_string_lossy().contains(".partial-"))
+    })
+}

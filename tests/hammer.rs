@@ -1,7 +1,7 @@
 //! Hammer-test data: the loader's error paths (file, line, column), the pairing of measured and
 //! FE modes by family and indices, and the comparison chart.
-use squeal::hammer::{compare, read_hammer_csv};
 use squeal::identify::{ModeFamily, ModeRef};
+use squeal::modal::hammer::{compare, read_hammer_csv};
 use squeal::report::modal_chart::write_modal_chart;
 
 /// Directory of one test (`tag` names it), unique within this process; the test removes it.

@@ -28,6 +28,7 @@ fn run_in_temp(
         &SimulateOptions {
             out_dir: dir.clone(),
             resume: false,
+            overwrite: false,
             progress: false,
             end_time_s,
             stop: StopFlag::new(),
@@ -58,6 +59,11 @@ fn tiny_case_runs_and_keeps_the_contact_invariants() {
     ] {
         assert!(dir.join(f).exists(), "{f} missing");
     }
+    // The snapshots as one ParaView time series.
+    let series = squeal::mesh::pvd::read_collection(&dir.join("snapshots.pvd")).unwrap();
+    assert_eq!(series.len(), 1);
+    assert!((series[0].0 - 2e-3).abs() < 1e-12);
+    assert_eq!(series[0].1, "snapshot_0002000.0us.vtu");
     let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
     // The patch snapshot's contact normal is the one in the force history: the normal force's
     // lateral part, total lateral force less its friction part, over the normal force.
@@ -347,6 +353,7 @@ fn simulate_in(dir: &Path, loaded: &squeal::rolling::case::LoadedCase) -> squeal
         &SimulateOptions {
             out_dir: dir.join("out"),
             resume: false,
+            overwrite: false,
             progress: false,
             end_time_s: None,
             stop: StopFlag::new(),
@@ -415,6 +422,7 @@ fn stop_during_the_preload_is_an_interruption() {
         &SimulateOptions {
             out_dir: dir.clone(),
             resume: false,
+            overwrite: false,
             progress: false,
             end_time_s: None,
             stop,
@@ -437,6 +445,7 @@ fn resumed_run_matches_the_uninterrupted_one() {
     let opts = |dir: &str, resume: bool, end: Option<f64>| SimulateOptions {
         out_dir: base.join(dir),
         resume,
+        overwrite: false,
         progress: false,
         end_time_s: end,
         stop: StopFlag::new(),
@@ -732,6 +741,7 @@ fn demo_runs() -> std::path::PathBuf {
             &SimulateOptions {
                 out_dir: dir.join(format!("case{n}-demo")),
                 resume: false,
+                overwrite: false,
                 progress: false,
                 end_time_s: None,
                 stop: StopFlag::new(),

@@ -961,6 +961,7 @@ fn demo80_run(case: &str) -> std::path::PathBuf {
         &SimulateOptions {
             out_dir: dir.clone(),
             resume: false,
+            overwrite: false,
             progress: false,
             end_time_s: None,
             stop: StopFlag::new(),

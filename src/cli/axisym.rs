@@ -9,8 +9,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
-use squeal::axisym::{self, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions};
 use squeal::geometry::wheel::WheelSpec;
+use squeal::modal::axisym::{self, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions};
+use squeal::output::{Commit, StagedDir};
 use squeal::{Error, Result};
 
 /// Largest harmonic accepted on the command line (a 920 mm wheel has no mode below 10 kHz
@@ -52,6 +53,10 @@ pub struct AxisymArgs {
     /// Output folder for modes.json, modes.csv, harmonics.json.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Hammer-test CSV (data/hammer/) drawn solid beside the computed modes on the modal
+    /// chart (needs --out).
+    #[arg(long, requires = "out")]
+    pub hammer: Option<PathBuf>,
 }
 
 /// Parse `A..B` (inclusive) or `N`.
@@ -193,7 +198,11 @@ pub fn run(args: AxisymArgs) -> Result<()> {
         res.seconds
     );
     if let Some(dir) = &args.out {
-        write_outputs(dir, &res)?;
+        let measured = match &args.hammer {
+            Some(h) => Some(squeal::modal::hammer::read_hammer_csv(h)?),
+            None => None,
+        };
+        write_outputs(dir, &res, measured.as_deref())?;
         println!("wrote {}", dir.display());
     }
     Ok(())
@@ -210,8 +219,22 @@ fn family_name(f: squeal::identify::ModeFamily) -> &'static str {
     }
 }
 
-fn write_outputs(dir: &Path, res: &axisym::AxisymResult) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+/// modes.json, harmonics.json, modes.csv and the modal chart, written beside `out` and moved
+/// into it when all are written.
+fn write_outputs(
+    out: &Path,
+    res: &axisym::AxisymResult,
+    measured: Option<&[squeal::modal::hammer::MeasuredMode]>,
+) -> Result<()> {
+    let stage = StagedDir::new(out)?;
+    let dir = stage.path();
+    let refs: Vec<_> = res.modes.iter().map(|m| m.mode_ref()).collect();
+    squeal::report::modal_chart::write_modal_chart(
+        &refs,
+        measured,
+        Some(&dir.join("modal_chart.png")),
+        Some(&dir.join("modal_chart.svg")),
+    )?;
     let json_path = dir.join("modes.json");
     let text = serde_json::to_string_pretty(&res.modes)
         .map_err(|e| Error::Numerical(format!("encoding modes.json: {e}")))?;
@@ -240,5 +263,8 @@ fn write_outputs(dir: &Path, res: &axisym::AxisymResult) -> Result<()> {
     }
     f.write_all(body.as_bytes())
         .and_then(|_| f.flush())
-        .map_err(|e| Error::io(&csv_path, e))
+        .map_err(|e| Error::io(&csv_path, e))?;
+    drop(f);
+    stage.commit(Commit::Merge)?;
+    Ok(())
 }

@@ -21,6 +21,47 @@ pub enum BenchWhat {
     /// Stability analysis: one operating point with N wheel modes and an eta sweep; ends with
     /// `point_seconds=<value> sweep_seconds=<value>`.
     Stability(StabilityBenchArgs),
+    /// One rolling step of a case split into element forces, contact and the rest, with the
+    /// projected wall time of the case's time loop; ends with `ms_per_step=<value>`.
+    Rolling(RollingBenchArgs),
+}
+
+/// Arguments of `squeal bench rolling`.
+#[derive(Args, Debug)]
+pub struct RollingBenchArgs {
+    /// Rolling case file (e.g. data/scenarios/case3-demo.json).
+    #[arg(long)]
+    pub scenario: std::path::PathBuf,
+    /// Steps timed per part, 1 to 1000000.
+    #[arg(long, default_value_t = 200)]
+    pub steps: usize,
+}
+
+fn rolling(a: RollingBenchArgs) -> Result<()> {
+    let loaded = squeal::rolling::load_case(&a.scenario)?;
+    let p = squeal::rolling::bench::step_profile(&loaded, a.steps)?;
+    println!(
+        "nodes={} elements={} contact_slaves={} threads={} dt_s={:.4e} ({}) steps={}",
+        p.nodes,
+        p.elements,
+        p.contact_slaves,
+        p.threads,
+        p.time_step_s,
+        p.time_step_limited_by,
+        p.steps
+    );
+    println!("levels=1 (single rate: every element at the smallest stable step)");
+    println!(
+        "elements_ms={:.3} contact_ms={:.3} rest_ms={:.3} contact_share={:.3}",
+        p.elements_ms, p.contact_ms, p.rest_ms, p.contact_share
+    );
+    println!("ns_per_element_step={:.1}", p.ns_per_element_step);
+    println!(
+        "case_steps={} projected_time_loop_s={:.1}",
+        p.case_steps, p.projected_time_loop_s
+    );
+    println!("ms_per_step={:.3}", p.step_ms);
+    Ok(())
 }
 
 /// Arguments of `squeal bench stability`.
@@ -178,6 +219,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     match args.what {
         BenchWhat::Modal(a) => modal(a),
         BenchWhat::Stability(a) => stability(a),
+        BenchWhat::Rolling(a) => rolling(a),
         BenchWhat::Explicit(a) => {
             let r = squeal::explicit::bench::element_throughput(a.elements, a.threads, a.steps)?;
             println!(

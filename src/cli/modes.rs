@@ -306,21 +306,24 @@ fn write_outputs(
         })
         .collect();
     write_vtu(&fields)?;
+    let mut measured_modes = None;
     if let Some(h) = &args.hammer {
-        let measured = squeal::hammer::read_hammer_csv(h)?;
-        let cmp = squeal::hammer::compare(&measured, &refs);
+        let measured = squeal::modal::hammer::read_hammer_csv(h)?;
+        let cmp = squeal::modal::hammer::compare(&measured, &refs);
         let p = args.out.join("comparison.md");
         std::fs::write(&p, cmp.to_markdown()).map_err(|e| Error::io(&p, e))?;
         let p = args.out.join("comparison.csv");
         std::fs::write(&p, cmp.to_csv()).map_err(|e| Error::io(&p, e))?;
-        squeal::report::modal_chart::write_modal_chart(
-            &refs,
-            Some(&measured),
-            Some(&args.out.join("modal_chart.png")),
-            Some(&args.out.join("modal_chart.svg")),
-        )?;
         println!("{}", cmp.to_markdown());
+        measured_modes = Some(measured);
     }
+    // The paper's modal chart, measured modes solid when a hammer test is given.
+    squeal::report::modal_chart::write_modal_chart(
+        &refs,
+        measured_modes.as_deref(),
+        Some(&args.out.join("modal_chart.png")),
+        Some(&args.out.join("modal_chart.svg")),
+    )?;
     println!("wrote {}", args.out.display());
     Ok(())
 }

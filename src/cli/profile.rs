@@ -2,6 +2,7 @@
 
 use clap::{Args, ValueEnum};
 use squeal::geometry::{curve2d::polygon_properties, rail54e1, s1002};
+use squeal::kalker::profiles;
 use squeal::{Error, Result};
 
 /// Which profile.
@@ -12,6 +13,13 @@ pub enum ProfileName {
     /// 54E1 rail section (EN 13674-1), closed outline: columns y_mm, z_mm.
     #[value(name = "54e1")]
     Rail54e1,
+    /// S1002 on the inclined 54E1 as the wheel moves sideways (--from-mm .. --to-mm): columns
+    /// wheel_y_mm, contact_y_mm, curvature_x_per_m, curvature_y_per_m (where Hertz applies:
+    /// a contact point and curvatures that change little).
+    Contact,
+    /// The undeformed gap across the rail head for the tape circle at --wheel-y-mm: columns
+    /// y_mm, gap_um, rail_height_um, wheel_radius_increment_um.
+    Gap,
 }
 
 /// Arguments of `squeal profile`.
@@ -28,6 +36,30 @@ pub struct ProfileArgs {
     /// For 54E1: apply the 1:40 inclination (top towards the track centre, -y).
     #[arg(long)]
     pub inclined: bool,
+    /// For `contact`: first tape-circle position (mm from the rail centre), in [-30, 30].
+    #[arg(long, default_value_t = -30.0, allow_negative_numbers = true)]
+    pub from_mm: f64,
+    /// For `contact`: last tape-circle position (mm), in [-30, 30] and >= --from-mm.
+    #[arg(long, default_value_t = 24.0, allow_negative_numbers = true)]
+    pub to_mm: f64,
+    /// For `gap`: tape-circle position (mm from the rail centre), in [-30, 30].
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub wheel_y_mm: f64,
+    /// For `contact` and `gap`: wheel rolling radius (m), in [0.2, 0.7].
+    #[arg(long, default_value_t = 0.46)]
+    pub wheel_radius_m: f64,
+}
+
+fn in_range(field: &str, value: f64, lo: f64, hi: f64) -> Result<()> {
+    if value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(Error::input(
+            "command line",
+            field,
+            format!("must be in [{lo}, {hi}], got {value}"),
+        ))
+    }
 }
 
 /// Run `squeal profile`.
@@ -39,7 +71,52 @@ pub fn run(args: ProfileArgs) -> Result<()> {
             format!("must be in (0.001, 50], got {}", args.step_mm),
         ));
     }
+    if matches!(args.name, ProfileName::Contact | ProfileName::Gap) {
+        in_range("--wheel-radius-m", args.wheel_radius_m, 0.2, 0.7)?;
+        in_range("--from-mm", args.from_mm, -30.0, 30.0)?;
+        in_range("--to-mm", args.to_mm, args.from_mm, 30.0)?;
+        in_range("--wheel-y-mm", args.wheel_y_mm, -30.0, 30.0)?;
+    }
     match args.name {
+        ProfileName::Contact => {
+            println!("wheel_y_mm,contact_y_mm,curvature_x_per_m,curvature_y_per_m");
+            let count = ((args.to_mm - args.from_mm) / args.step_mm + 1e-9).floor() as usize;
+            for i in 0..=count {
+                let y_mm = args.from_mm + i as f64 * args.step_mm;
+                match profiles::s1002_on_54e1(y_mm * 1e-3, args.wheel_radius_m) {
+                    Ok(c) => println!(
+                        "{y_mm:.3},{:.3},{:.4},{:.4}",
+                        c.contact_y_m * 1e3,
+                        c.curvature_x_per_m,
+                        c.curvature_y_per_m
+                    ),
+                    // A position without a single contact point: said, and the scan goes on.
+                    Err(e) => eprintln!("wheel_y {y_mm:.3} mm: {e}"),
+                }
+            }
+        }
+        ProfileName::Gap => {
+            let (contact, rows) = profiles::undeformed_gap_across_head(
+                args.wheel_y_mm * 1e-3,
+                args.wheel_radius_m,
+                args.step_mm * 1e-3,
+            )?;
+            println!(
+                "# tape circle at y = {} mm; first contact at y = {:.2} mm",
+                args.wheel_y_mm,
+                contact.contact_y_m * 1e3
+            );
+            println!("y_mm,gap_um,rail_height_um,wheel_radius_increment_um");
+            for r in rows {
+                println!(
+                    "{:.3},{:.1},{:.1},{:.1}",
+                    r.y_m * 1e3,
+                    r.gap_m * 1e6,
+                    r.rail_height_m * 1e6,
+                    r.wheel_radius_increment_m * 1e6
+                );
+            }
+        }
         ProfileName::S1002 => {
             let table = s1002::point_table(args.step_mm);
             if args.csv {

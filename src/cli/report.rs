@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use squeal::output::{Commit, StagedDir};
 use squeal::report::run_report::{build_report, ReportOptions};
 use squeal::Result;
 
@@ -37,7 +38,10 @@ pub struct ReportArgs {
 
 /// Run `squeal report`.
 pub fn run(args: ReportArgs) -> Result<()> {
+    squeal::output::check_plain_name("--name", &args.name)?;
     let out = args.reports.join(&args.name);
+    // Written beside the final folder and moved into place only when complete.
+    let stage = StagedDir::new(&out)?;
     let options = ReportOptions {
         from_s: args.from_ms.map(|t| t * 1e-3),
         to_s: args.to_ms.map(|t| t * 1e-3),
@@ -46,10 +50,11 @@ pub fn run(args: ReportArgs) -> Result<()> {
     };
     let summary = build_report(
         &args.run_dirs,
-        &out,
+        stage.path(),
         &format!("squeal report: {}", args.name),
         &options,
     )?;
+    stage.commit(Commit::Replace)?;
     println!(
         "report with {} files and sections: {}",
         summary.files.len(),

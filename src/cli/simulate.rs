@@ -45,8 +45,12 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// Resume from the checkpoint in the output directory.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "overwrite")]
     pub resume: bool,
+    /// Replace the run in a non-empty output directory (it is cleared first). Without it a
+    /// non-empty output directory is refused.
+    #[arg(long)]
+    pub overwrite: bool,
     /// Stop at this simulated time instead of the case's end time (ms).
     #[arg(long)]
     pub end_time_ms: Option<f64>,
@@ -115,6 +119,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         let opts = SimulateOptions {
             out_dir: out.clone(),
             resume: args.resume,
+            overwrite: args.overwrite,
             progress: !args.quiet,
             end_time_s: args.end_time_ms.map(|t| t * 1e-3),
             stop: stop.clone(),

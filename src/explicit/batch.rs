@@ -251,6 +251,9 @@ fn hourglass_spread(g: &[V; 4]) -> [V; 8] {
 ///
 /// The work is arranged component by component (`i` = x, y, z) wherever the equations allow, so
 /// that few values are live at once and the four-lane vectors stay in registers.
+///
+/// Kept in one piece: the eight-lane kernel must stay in one function for the compiler to keep its
+/// lanes in registers.
 #[inline(always)]
 fn batch_forces<const FMA: bool, const PHYSICAL: bool>(
     b: &ElementBatch,

@@ -263,6 +263,9 @@ pub struct OnePointElement {
 
 impl OnePointElement {
     /// Precompute from reference coordinates.
+    ///
+    /// Kept in one piece: the element record's fields are computed in the order they depend on each
+    /// other.
     pub fn new(
         nodes: [usize; 8],
         x: &[P3; 8],
@@ -473,6 +476,9 @@ pub struct KernelOptions {
 
 /// Internal forces of one one-point element (written to `force`, 8 nodes x 3), with energies
 /// when `ENERGY` is true. `u` and `v` are the nodal displacement and velocity arrays.
+///
+/// Kept in one piece: the reference kernel, written as the formulas read, against which the batched
+/// kernel is checked.
 #[inline(always)]
 pub fn one_point_forces<const ENERGY: bool>(
     el: &OnePointElement,

@@ -13,6 +13,9 @@ use crate::mesh::P3;
 
 impl Solver {
     /// Advances rigid body `b` (forces of its members at t_n) and moves its nodes.
+    ///
+    /// Kept in one piece: the rigid-body update in the order of its equations (resultants,
+    /// prescribed parts, rotation, node velocities).
     pub(super) fn advance_rigid_body(
         &mut self,
         b: usize,

@@ -27,6 +27,8 @@ use crate::mesh::vtu::{self, PointVectorField};
 use crate::mesh::P3;
 use crate::{Error, Result};
 
+/// The checkpoint a run writes into its directory (and `--resume` reads).
+pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
 /// Sampled quantity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -170,6 +172,9 @@ pub fn align_time_step(solver: &mut Solver, sample_interval_s: f64) -> Result<u6
 }
 
 /// Runs from the solver's current state to `opts.end_time_s`.
+///
+/// Kept in one piece: the time loop with its output, checkpoint, progress and diagnosis hooks in
+/// the order they happen each step.
 pub fn run<A: AuxForces + ?Sized>(
     solver: &mut Solver,
     aux: &mut A,
@@ -196,7 +201,7 @@ pub fn run<A: AuxForces + ?Sized>(
     let per_sample = align_time_step(solver, opts.sample_interval_s)?;
     let hist_path = opts.out_dir.join("histories.csv");
     let energy_path = opts.out_dir.join("energy.csv");
-    let ckpt_path = opts.out_dir.join("checkpoint.bin");
+    let ckpt_path = opts.out_dir.join(CHECKPOINT_FILE);
     let mut resumed_from = None;
     if opts.resume {
         let aux_state = read_checkpoint(solver, &ckpt_path)?;
@@ -410,7 +415,27 @@ pub fn write_snapshot(solver: &Solver, dir: &Path, time_s: f64) -> Result<PathBu
             },
         ],
     )?;
+    write_snapshot_collection(dir)?;
     Ok(path)
+}
+
+/// The run's snapshots as one ParaView time series: `snapshots.pvd` over every
+/// `snapshot_<time in us>.vtu` in `dir` (rewritten after each snapshot, so that a resumed or
+/// interrupted run's collection lists what is there).
+fn write_snapshot_collection(dir: &Path) -> Result<()> {
+    let entries = std::fs::read_dir(dir).map_err(io(dir))?;
+    let mut files = Vec::new();
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().to_string();
+        let time_us = name
+            .strip_prefix("snapshot_")
+            .and_then(|r| r.strip_suffix("us.vtu"))
+            .and_then(|t| t.parse::<f64>().ok());
+        if let Some(t) = time_us {
+            files.push((t * 1e-6, name));
+        }
+    }
+    crate::mesh::pvd::write_collection(&dir.join("snapshots.pvd"), &files)
 }
 
 /// Drops the rows of a CSV whose first column exceeds `time_s` (for resume).

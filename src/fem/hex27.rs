@@ -16,7 +16,7 @@
 //!   1D weights are 1/3, 4/3, 1/3 of the half length), unlike the serendipity hex20's.
 //!
 //! Its use here: the axisymmetric solver's Q9 cross-section revolved into quadratic sectors
-//! ([`crate::axisym::revolve`]) gives a 3D mesh with *the same cross-section discretisation*
+//! ([`crate::modal::axisym::revolve`]) gives a 3D mesh with *the same cross-section discretisation*
 //! as the harmonic solver, so the two differ only by the circumferential interpolation.
 //!
 //! Degrees of freedom are ordered node-major: `3 a + c` for node `a`, component `c`.

@@ -130,6 +130,9 @@ pub const RIM_WIDTH_MM: f64 = s1002::S_FIELD_FACE_MM - s1002::S_FLANGE_BACK_MM;
 
 impl WheelSpec {
     /// Check every field against its allowed range; errors name `source_name` and the field.
+    ///
+    /// Kept in one piece: a flat list of checks, one per field in the file's order, each naming its
+    /// field and range.
     pub fn validate(&self, source_name: &str) -> Result<()> {
         let c = Checker { source_name };
         c.within("nominal_radius_mm", self.nominal_radius_mm, 200.0, 1000.0)?;

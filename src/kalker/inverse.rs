@@ -37,6 +37,8 @@ pub const SATURATION_TOLERANCE: f64 = 1e-9;
 
 /// Solves for `(xi, eta)` such that the solver's forces equal `(Fx, Fy)` for spin `phi_per_m`.
 /// `semi_axes_m` (a, b) give the linear-theory starting point.
+///
+/// Kept in one piece: the Newton iteration on the creepages and its safeguards share the iterate.
 pub fn solve_force_prescribed(
     solver: &RollingSolver,
     semi_axes_m: (f64, f64),

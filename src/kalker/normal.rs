@@ -31,6 +31,9 @@ impl NormalSolution {
 
 /// Solves the normal problem for undeformed gap `gap_m` (per element centre, >= 0 somewhere) and
 /// normal force. `relative_tolerance` bounds `sum |dp| / sum p` between iterations.
+///
+/// Kept in one piece: Kalker's normal-contact iteration (NORM) over the patch elements in the
+/// method's order.
 pub fn solve_normal(
     grid: &Grid,
     gap_m: &[f64],

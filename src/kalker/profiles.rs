@@ -139,3 +139,45 @@ pub fn s1002_on_54e1(wheel_y_m: f64, wheel_radius_m: f64) -> Result<ProfileConta
         curvature_y_per_m: b,
     })
 }
+
+/// One row of the undeformed gap across the rail head (m).
+#[derive(Clone, Copy, Debug)]
+pub struct GapRow {
+    /// Lateral position (m).
+    pub y_m: f64,
+    /// Gap to the first point of contact: `g(y) = max(h) - h(y)` (m).
+    pub gap_m: f64,
+    /// Rail top height (inclined 54E1) (m).
+    pub rail_height_m: f64,
+    /// Wheel radius increment (S1002) at y (m).
+    pub wheel_radius_increment_m: f64,
+}
+
+/// The undeformed gap of S1002 on the inclined 54E1 across the head at x = 0, for the tape
+/// circle at `wheel_y_m`: `g(y) = max(h) - h(y)`, `h = rail height + wheel radius increment`
+/// (the gap Kalker's `--profile-gap` solves on), from -35 to 35 mm every `step_m`, where the
+/// rail has a top. Returns the first contact and the rows: the check of a meshed contact
+/// against the profiles.
+pub fn undeformed_gap_across_head(
+    wheel_y_m: f64,
+    wheel_radius_m: f64,
+    step_m: f64,
+) -> Result<(ProfileContact, Vec<GapRow>)> {
+    let contact = s1002_on_54e1(wheel_y_m, wheel_radius_m)?;
+    let height = |y: f64| rail_top_height_m(y).map(|z| z + wheel_radius_offset_m(y, wheel_y_m));
+    let top = height(contact.contact_y_m).unwrap_or(f64::NAN);
+    let count = (0.070 / step_m).floor() as usize;
+    let rows = (0..=count)
+        .map(|i| -0.035 + i as f64 * step_m)
+        .filter_map(|y| {
+            let h = height(y)?;
+            Some(GapRow {
+                y_m: y,
+                gap_m: top - h,
+                rail_height_m: rail_top_height_m(y)?,
+                wheel_radius_increment_m: wheel_radius_offset_m(y, wheel_y_m),
+            })
+        })
+        .collect();
+    Ok((contact, rows))
+}

@@ -168,6 +168,9 @@ impl TangentialSolver {
 
     /// Solves for the tractions given pressure (Pa per element), friction coefficient and
     /// creepages. `initial` (px, py) may warm-start the iteration.
+    ///
+    /// Kept in one piece: Kalker's active-set iteration over the patch elements, whose steps share
+    /// the element arrays and follow the method's steps in order.
     pub fn solve(
         &self,
         pressure_pa: &[f64],

@@ -5,6 +5,7 @@
 pub mod distribute;
 pub mod gmsh;
 pub mod hex;
+pub mod pvd;
 pub mod quality;
 pub mod rail;
 pub mod section;

@@ -78,6 +78,9 @@ pub struct RailSection {
 /// sides, so a crown meshed at the running-surface size would leave core cells about half that
 /// size and halve the explicit time step. As for the wheel tread, the fine crown layer is meshed
 /// on its own and tied; the head keeps the body size.
+///
+/// Kept in one piece: the head, web and foot blocks are meshed along one outline, each reusing its
+/// neighbour's edge nodes.
 pub fn rail_section(sizes: RailSectionSizes) -> RailSection {
     let segs = rail54e1::left_half_segments();
     let h_fine = sizes.running_surface_mm;

@@ -88,6 +88,8 @@ pub fn read(path: &Path) -> Result<VtuContents> {
     parse(&name, &text)
 }
 
+/// Kept in one piece: one pass over the file's sections in the order the format gives them (points,
+/// cells, cell types, data), each error naming its line.
 fn parse(name: &str, text: &str) -> Result<VtuContents> {
     let lines: Vec<&str> = text.lines().collect();
     let bad = |line: usize, msg: String| Error::input(name, format!("line {line}"), msg);

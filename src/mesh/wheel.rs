@@ -189,6 +189,10 @@ pub const FLANGE_ROOT_S_MM: f64 = -26.0;
 const AXLE_CORE_ETA: f64 = 0.5;
 
 /// Mesh the cross-section.
+///
+/// Kept in one piece: the zones are meshed along one outline (tread band, rim, web, hub, axle
+/// core), each reusing its neighbour's edge nodes; split, those shared edges would travel through
+/// long argument lists.
 pub fn mesh_section(spec: &WheelSpec, band: Option<&TreadBandSpec>) -> WheelSection {
     let h = spec.mesh.element_size_mm;
     let tol = 1e-7;

@@ -8,7 +8,7 @@
 //!   radius > 0.9 R_max), `a_0 = |sum w u| / sum w`, `a_n = 2 |sum w u e^{-i n theta}| / sum w`,
 //!   summed in power over the three components; n maximises it;
 //! - axle family: a wheel with its half axle has modes that are mostly the axle's; a mode with at
-//!   least [`crate::axisym::AXLE_FAMILY_SHARE`] of its kinetic energy on the nodes that only
+//!   least [`crate::modal::mode::AXLE_FAMILY_SHARE`] of its kinetic energy on the nodes that only
 //!   axle elements hold is of the axle family (as in the axisymmetric solver);
 //! - nodal circles m: at the angle of largest rim motion, the family component (axial for axial
 //!   modes, radial for radial, circumferential otherwise) of the wheel's nodes (not the axle's)
@@ -148,6 +148,9 @@ fn sign_changes_above(values: &[f64], threshold: f64) -> u32 {
 
 /// [`classify_shape`] on bare node coordinates (any mesh kind); `axle` flags the nodes of the
 /// half axle (empty: no axle).
+///
+/// Kept in one piece: the family, nodal-diameter and nodal-circle tests read the same shape samples
+/// in one pass.
 pub fn classify_shape_points(
     nodes: &[[f64; 3]],
     weights: &[f64],
@@ -206,7 +209,7 @@ pub fn classify_shape_points(
         .map(|i| weights[i] * (u[i][0] * u[i][0] + u[i][1] * u[i][1] + u[i][2] * u[i][2]))
         .sum();
     let axle_mode =
-        all_energy > 0.0 && axle_energy / all_energy >= crate::axisym::AXLE_FAMILY_SHARE;
+        all_energy > 0.0 && axle_energy / all_energy >= crate::modal::mode::AXLE_FAMILY_SHARE;
     let family = if axle_mode {
         ModeFamily::Axle
     } else {

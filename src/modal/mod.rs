@@ -29,11 +29,28 @@
 //!   high modes that rounding leaves), its eigenvalue is the Rayleigh quotient, and its relative
 //!   residual `||K x - w² M x|| / ||K x||` (rigid modes: `/ (|sigma| ||M x||)`) must be below
 //!   the tolerance, else the solve fails with a message.
+//!
+//! Files, one job each: [`lanczos`] (the band solve), [`solution`] (options and results),
+//! [`factor`] (the shifted pencil, its symbolic analysis and factors, the shift-invert
+//! operator), [`inertia`] (the Sturm count from `L D Lᵀ`, shared with [`axisym`]), [`block`]
+//! (block linear algebra in the M inner product), [`slice`] (spectrum slicing and the Lanczos
+//! of one slice), [`dense`] (small models and the projected matrix), [`ordering`] (nested
+//! dissection), [`mode`] (the mode types every stage shares), [`classify`] (families and
+//! nodal counts), [`pipeline`] (solve and classify a `model::modal` model), [`axisym`] (the
+//! axisymmetric solver), [`hammer`] (hammer-test data).
 
+pub mod axisym;
+pub mod block;
 pub mod classify;
+pub mod dense;
+pub mod factor;
+pub mod hammer;
+pub mod inertia;
 pub mod lanczos;
 pub mod mode;
 pub mod ordering;
 pub mod pipeline;
+pub mod slice;
+pub mod solution;
 
 pub use lanczos::{solve, ModalOptions, ModalSolution, Mode};

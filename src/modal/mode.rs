@@ -4,6 +4,11 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Kinetic energy share in the axle from which a mode belongs to the axle family. Why a half:
+/// such a mode is more the axle's than the wheel's; on the default wheel the shares fall in
+/// two groups, below 0.25 (wheel modes carrying some axle) and above 0.5 (module tests).
+pub const AXLE_FAMILY_SHARE: f64 = 0.5;
+
 /// Mode family by the dominant motion.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, PartialOrd, Ord)]
 #[serde(rename_all = "lowercase")]

@@ -322,6 +322,9 @@ const FRUITLESS_MOVES: usize = 64;
 /// Moves are taken greedily by gain (negative ones included, to climb out of local minima),
 /// each node at most once per pass, with no side exceeding the balance limit; the pass is rolled
 /// back to the lightest separator it saw. Passes repeat while they improve.
+///
+/// Kept in one piece: one Fiduccia-Mattheyses pass, whose gains, moves and rollback share the
+/// state.
 fn refine_separator(
     graph: &Graph,
     weights: &[usize],

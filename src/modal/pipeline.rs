@@ -5,12 +5,12 @@
 //!
 //! The command line only parses, prints and writes; everything here returns plain data.
 
-use crate::axisym::revolve::revolve_hex27;
-use crate::axisym::{AxisymModel, WheelClamp, WheelModelOptions};
 use crate::fem::Hex8Kind;
 use crate::geometry::wheel::WheelSpec;
 use crate::mesh::volume;
 use crate::mesh::P3;
+use crate::modal::axisym::revolve::revolve_hex27;
+use crate::modal::axisym::{AxisymModel, WheelClamp, WheelModelOptions};
 use crate::model::modal::{empty_box, volume_model, Clamp, ModalMesh, ModalModel};
 use crate::{Error, Result};
 

@@ -220,6 +220,9 @@ fn non_negative(source: &str, field: &str, x: f64) -> Result<()> {
 
 impl RollingCase {
     /// Checks every field; errors name the file and the field with the allowed range.
+    ///
+    /// Kept in one piece: a flat list of checks, one per field in the file's order, each naming its
+    /// field and range.
     pub fn validate(&self, source: &str) -> Result<()> {
         if !(self.end_time_s > 0.0 && self.end_time_s <= 1.0) {
             return Err(Error::input(

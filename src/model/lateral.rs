@@ -151,6 +151,8 @@ impl LateralMotion {
     }
 
     /// Checks the history against the case's end time; errors name `field` and the range.
+    ///
+    /// Kept in one piece: a flat list of checks, one per field, each naming its field and range.
     pub fn validate(&self, source: &str, field: &str, end_time_s: f64) -> Result<()> {
         let err = |sub: &str, msg: String| Error::input(source, format!("{field}.{sub}"), msg);
         match self {

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::chart::{write, LineChart, Series, Stroke};
-use crate::hammer::MeasuredMode;
+use crate::modal::hammer::MeasuredMode;
 use crate::modal::mode::{ModeFamily, ModeRef};
 use crate::Result;
 

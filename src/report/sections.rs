@@ -92,6 +92,8 @@ fn wavelet_chart(
 }
 
 /// Wheel vibration histories and PSDs of all runs on one figure per direction (paper fig. 9); the PSD chart states its window and padding.
+///
+/// Kept in one piece: one report section, written top to bottom as it reads.
 pub(super) fn vibration(page: &mut Page, ctx: &Context) -> Result<()> {
     let Context { runs, out_dir, .. } = *ctx;
     // ---- Vibration histories and PSDs of all runs (paper fig. 9).
@@ -391,7 +393,7 @@ pub(super) fn modes_chart(page: &mut Page, ctx: &Context) -> Result<()> {
         page.heading("Wheel modes");
         let hammer_path = dir.join("hammer.csv");
         let measured = if hammer_path.exists() {
-            Some(crate::hammer::read_hammer_csv(&hammer_path)?)
+            Some(crate::modal::hammer::read_hammer_csv(&hammer_path)?)
         } else {
             None
         };
@@ -406,7 +408,7 @@ pub(super) fn modes_chart(page: &mut Page, ctx: &Context) -> Result<()> {
             let _ = writeln!(
                 page.md,
                 "{}",
-                crate::hammer::compare(meas, modes).to_markdown()
+                crate::modal::hammer::compare(meas, modes).to_markdown()
             );
         }
         page.files.push("modes.png".into());
@@ -548,6 +550,8 @@ Stability analysis `{}` (operating point: {}; eigenvalues up to {:.0} Hz).
 }
 
 /// Do the zero-nodal-circle modes grow: rms of the rim against the hub, and wavelet ridges of the squeal modes' bands with their growth rates.
+///
+/// Kept in one piece: one report section, written top to bottom as it reads.
 pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
     let Context {
         runs,

@@ -22,6 +22,7 @@
 //! wheelset, so the rolling motion itself is not in the signal), `contact_forces.csv`,
 //! `patches/patch_*.csv|json`, `energy.csv`, `status.json`, `run.json`, VTU snapshots.
 
+pub mod bench;
 pub mod build;
 mod drive;
 pub mod instruments;
@@ -54,6 +55,10 @@ pub struct SimulateOptions {
     pub out_dir: PathBuf,
     /// Resume from the checkpoint in `out_dir`.
     pub resume: bool,
+    /// Replace the run in a non-empty `out_dir` (cleared first). Without it (and without
+    /// `resume`) a non-empty `out_dir` is refused, so that no run is overwritten by mistake
+    /// and no old file is left beside a new run.
+    pub overwrite: bool,
     /// Progress bar.
     pub progress: bool,
     /// Override of the case's end time (s), e.g. for quick checks.
@@ -102,7 +107,44 @@ pub struct RunRecord {
 /// Longest loss of contact accepted as a bounce (s); longer is lift-off or derailment.
 pub const LIFT_OFF_LIMIT_S: f64 = 0.002;
 
+/// The run directory before a run: for `--resume` it must hold a checkpoint; otherwise it
+/// must be new or empty, or `overwrite` clears it. Checked before anything is written, so a
+/// refused run leaves the folder as it was.
+fn prepare_run_directory(opts: &SimulateOptions) -> Result<()> {
+    let dir = &opts.out_dir;
+    let shown = dir.display().to_string();
+    if opts.resume {
+        if !dir.join(crate::explicit::run::CHECKPOINT_FILE).exists() {
+            return Err(Error::input(
+                shown,
+                "--resume",
+                format!(
+                    "no {} in this folder: --resume continues a run that wrote a checkpoint; \
+                     start the run without --resume",
+                    crate::explicit::run::CHECKPOINT_FILE
+                ),
+            ));
+        }
+        return Ok(());
+    }
+    if crate::output::has_entries(dir) {
+        if !opts.overwrite {
+            return Err(Error::input(
+                shown,
+                "--out",
+                "the folder is not empty (an earlier run?): give --overwrite to replace it, \
+                 --resume to continue its run, or a new or empty folder",
+            ));
+        }
+        std::fs::remove_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))
+}
+
 /// Runs one case into `opts.out_dir`.
+///
+/// Kept in one piece: the run's stages in order (build, preload, rolling start, time loop,
+/// records), each a function of its own.
 pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord> {
     let mut case = loaded.case.clone();
     if let Some(t) = opts.end_time_s {
@@ -122,7 +164,6 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         scenario: loaded.scenario.clone(),
         source: loaded.source.clone(),
     };
-    std::fs::create_dir_all(&opts.out_dir).map_err(|e| Error::io(&opts.out_dir, e))?;
     if opts.resume && case.creepage.is_some() {
         // The spin history depends on the loaded rolling radius measured after the preload,
         // which a checkpoint does not hold.
@@ -132,6 +173,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
             "runs with a prescribed creepage cannot be resumed; start them again",
         ));
     }
+    prepare_run_directory(opts)?;
     let mut m = build(&loaded_case)?;
     m.contact.out_dir = opts.out_dir.clone();
     let mut preload = None;

@@ -180,6 +180,9 @@ fn fast_fft_length(n: usize) -> usize {
 }
 
 /// Morlet CWT power of `signal` sampled at `sample_rate_hz` (see the module documentation).
+///
+/// Kept in one piece: the FFT of the signal is shared by every scale's product and inverse
+/// transform in one loop.
 pub fn morlet_cwt(signal: &[f64], sample_rate_hz: f64, scales: &Scales) -> Result<WaveletPower> {
     if !(sample_rate_hz.is_finite() && sample_rate_hz > 0.0) {
         return Err(Error::input(

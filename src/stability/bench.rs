@@ -55,6 +55,38 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// The wheel's modes from `fmax_hz` up, the band grown by 1.25 until it holds
+/// `wheel_coordinates` coordinates (an n >= 1 mode gives two), with the solves' total time (s).
+fn wheel_with_coordinates(
+    spec: &WheelSpec,
+    fmax_hz: f64,
+    wheel_coordinates: usize,
+) -> Result<(WheelModes, f64)> {
+    let coordinates =
+        |w: &WheelModes| -> usize { w.modes.iter().map(|m| 1 + (m.harmonic >= 1) as usize).sum() };
+    let mut fmax_hz = fmax_hz;
+    let mut solve_seconds = 0.0;
+    loop {
+        let t = Instant::now();
+        let w = WheelModes::solve_band(spec, fmax_hz)?;
+        solve_seconds += t.elapsed().as_secs_f64();
+        if coordinates(&w) >= wheel_coordinates {
+            return Ok((w, solve_seconds));
+        }
+        fmax_hz *= 1.25;
+        if fmax_hz > 50_000.0 {
+            return Err(Error::input(
+                "command line",
+                "--wheel-modes",
+                format!(
+                    "the wheel has only {} coordinates below 50 kHz",
+                    coordinates(&w)
+                ),
+            ));
+        }
+    }
+}
+
 /// Time the analysis of `loaded`'s case-file operating point with at least
 /// `wheel_coordinates` wheel coordinates (`repeats` times), and an eta sweep of `sweep_points`
 /// points over 0..1 % (through the onset of the case-3 mode coupling).
@@ -82,30 +114,8 @@ pub fn run(
     let path = wheel_file(loaded);
     let spec: WheelSpec = crate::input::read_json(&path)?;
     spec.validate(&path.display().to_string())?;
-    // Grow the band until it holds the coordinates asked for (an n >= 1 mode gives two).
-    let coordinates =
-        |w: &WheelModes| -> usize { w.modes.iter().map(|m| 1 + (m.harmonic >= 1) as usize).sum() };
-    let mut fmax_hz = settings.fmax_hz;
-    let mut solve_seconds = 0.0;
-    let wheel = loop {
-        let t = Instant::now();
-        let w = WheelModes::solve_band(&spec, fmax_hz)?;
-        solve_seconds += t.elapsed().as_secs_f64();
-        if coordinates(&w) >= wheel_coordinates {
-            break w;
-        }
-        fmax_hz *= 1.25;
-        if fmax_hz > 50_000.0 {
-            return Err(Error::input(
-                "command line",
-                "--wheel-modes",
-                format!(
-                    "the wheel has only {} coordinates below 50 kHz",
-                    coordinates(&w)
-                ),
-            ));
-        }
-    };
+    let (wheel, solve_seconds) =
+        wheel_with_coordinates(&spec, settings.fmax_hz, wheel_coordinates)?;
     let model = StabilityModel {
         wheel,
         track: Track::from_case(loaded)?,

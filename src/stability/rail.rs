@@ -213,6 +213,10 @@ impl Track {
     }
 
     /// The model of one direction with the contact at `x_contact_m`.
+    ///
+    /// Kept in one piece: the node positions, the dof numbering (sleepers beside their pads),
+    /// the held dofs and the element and support entries all index the same nodes and
+    /// sleepers.
     pub fn beam_model(&self, direction: Direction, x_contact_m: f64) -> Result<BeamModel> {
         if !(x_contact_m > 0.0 && x_contact_m < self.length_m) {
             return Err(Error::input(

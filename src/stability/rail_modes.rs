@@ -101,21 +101,10 @@ pub fn rail_modal_model(
     modal_model(&model, direction, truncation_hz)
 }
 
-/// The modal model of an assembled beam model.
-pub fn modal_model(
-    model: &BeamModel,
-    direction: Direction,
-    truncation_hz: f64,
-) -> Result<RailModalModel> {
-    let n = model.dofs;
-    let mut k = Mat::<f64>::zeros(n, n);
-    let mut m = Mat::<f64>::zeros(n, n);
-    let mut c = Mat::<f64>::zeros(n, n);
-    for &(i, j, mv, cv, kv) in &model.entries {
-        m[(i, j)] += mv;
-        c[(i, j)] += cv;
-        k[(i, j)] += kv;
-    }
+/// The undamped modes of `K x = w^2 M x`: the eigenvalues `w^2` and the mass-normalised modes
+/// as columns (`M = L L^T`, the symmetric `S = L^-1 K L^-T` by two triangular solves, its
+/// eigenvectors `y`, then `x = L^-T y`).
+fn mass_normalised_modes(k: &Mat<f64>, m: &Mat<f64>) -> Result<(Vec<f64>, Mat<f64>)> {
     let llt = m.llt(Side::Lower).map_err(|e| {
         Error::Numerical(format!(
             "rail modes: mass matrix not positive definite: {e:?}"
@@ -145,8 +134,27 @@ pub fn modal_model(
         x.as_mut(),
         faer::Par::Seq,
     );
+    let values = evd.S().column_vector().iter().copied().collect();
+    Ok((values, x))
+}
+
+/// The modal model of an assembled beam model.
+pub fn modal_model(
+    model: &BeamModel,
+    direction: Direction,
+    truncation_hz: f64,
+) -> Result<RailModalModel> {
+    let n = model.dofs;
+    let mut k = Mat::<f64>::zeros(n, n);
+    let mut m = Mat::<f64>::zeros(n, n);
+    let mut c = Mat::<f64>::zeros(n, n);
+    for &(i, j, mv, cv, kv) in &model.entries {
+        m[(i, j)] += mv;
+        c[(i, j)] += cv;
+        k[(i, j)] += kv;
+    }
+    let (values, x) = mass_normalised_modes(&k, &m)?;
     let w_max = std::f64::consts::TAU * truncation_hz;
-    let values = evd.S().column_vector();
     let kept: Vec<usize> = (0..n)
         .filter(|&q| values[q] > 0.0 && values[q] <= w_max * w_max)
         .collect();

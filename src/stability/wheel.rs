@@ -1,6 +1,6 @@
 //! The wheel as a modal model at the contact point, from the axisymmetric solver.
 //!
-//! The axisymmetric solver ([`crate::axisym`]) gives each mode of harmonic n as section fields
+//! The axisymmetric solver ([`crate::modal::axisym`]) gives each mode of harmonic n as section fields
 //! `(U_r, U_t, U_z)` with `u_r = U_r cos(n theta)`, `u_theta = U_t sin(n theta)`, `u_z = U_z
 //! cos(n theta)`, normalised so that `x^T M_n x = 1`, where `M_n` carries the circumferential
 //! integral (2 pi for n = 0, pi for n >= 1): the 3D mode is then mass-normalised
@@ -36,11 +36,11 @@
 use serde::{Deserialize, Serialize};
 
 use super::system::{Body, DofTag, Gyroscopic, ModalBody, ModalDof};
-use crate::axisym::{
-    self, element, AxisymMode, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions,
-};
 use crate::geometry::s1002;
 use crate::geometry::wheel::WheelSpec;
+use crate::modal::axisym::{
+    self, element, AxisymMode, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions,
+};
 use crate::modal::mode::ModeFamily;
 use crate::{Error, Result};
 

@@ -28,6 +28,8 @@ use faer::sparse::linalg::cholesky::simplicial;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, MatMut, Par};
 
+use crate::modal::block::random_vector;
+use crate::modal::inertia::simplicial_negative_pivots;
 use crate::{Error, Result};
 
 /// Symmetric K and M with one shared upper-triangle pattern.
@@ -301,23 +303,7 @@ impl PencilMatrices {
             MemStack::new(&mut mem),
         )
         .map_err(|e| faer_err(&format!("LDL^T of K - sigma M at sigma = {sigma:.6e}"), e))?;
-        // The diagonal of column j (first stored entry, row j) holds the pivot D_j.
-        let lcp = self.pat.symbolic.col_ptr();
-        let lri = self.pat.symbolic.row_idx();
-        let mut negative = 0;
-        for j in 0..self.n {
-            let p = lcp[j];
-            debug_assert_eq!(lri[p], j);
-            let d = l_values[p];
-            if !d.is_finite() {
-                return Err(Error::Numerical(format!(
-                    "axisymmetric eigen solver: non-finite pivot in the LDL^T at sigma = {sigma:.6e}"
-                )));
-            }
-            if d < 0.0 {
-                negative += 1;
-            }
-        }
+        let negative = simplicial_negative_pivots(&self.pat.symbolic, &l_values, sigma)?;
         Ok(ShiftedFactor {
             pencil: self,
             l_values,
@@ -523,25 +509,15 @@ pub fn m_dot(mx: &[f64], y: &[f64]) -> f64 {
     acc.iter().sum::<f64>() + tail
 }
 
-/// Deterministic pseudo-random start vector (xorshift), so results repeat exactly.
-fn start_vector(n: usize, seed: u64) -> Vec<f64> {
-    let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-    (0..n)
-        .map(|_| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        })
-        .collect()
-}
-
 /// All eigenpairs with lambda < `lambda_max`.
 ///
 /// `known`: exact eigenvectors known beforehand (permuted numbering; here the rigid-body
 /// motions of a free body, K x = 0), locked before the Lanczos runs so that the runs need not
 /// resolve their (repeated) zero eigenvalue. They are M-orthonormalised; those with a
 /// Rayleigh quotient at or above `lambda_max` are ignored.
+///
+/// Kept in one piece: the restarted Lanczos runs with deflation and their bookkeeping share one
+/// state; the factor, the dot products and the polish are functions of their own.
 pub fn solve_below(
     p: &PencilMatrices,
     s: &EigenSettings,
@@ -608,7 +584,7 @@ pub fn solve_below(
         let mut mq: Vec<Vec<f64>> = Vec::new();
         let mut alpha: Vec<f64> = Vec::new();
         let mut beta: Vec<f64> = Vec::new();
-        let mut v = start_vector(n, round);
+        let mut v = random_vector(n, round);
         let mut accepted_this_round = false;
         let mut next_check = (missing + 10).min(max_steps);
         // Checks in a row at which every wanted Ritz value had converged but no new one had

@@ -63,10 +63,7 @@ pub const MAX_RELATIVE_RESIDUAL: f64 = 1e-8;
 /// Share of the path's largest magnitude below which a sample has no sign (nodal circles).
 const NODAL_SIGN_THRESHOLD: f64 = 0.05;
 
-/// Kinetic energy share in the axle from which a mode belongs to the axle family. Why a half:
-/// such a mode is more the axle's than the wheel's; on the default wheel the shares fall in
-/// two groups, below 0.25 (wheel modes carrying some axle) and above 0.5 (module tests).
-pub const AXLE_FAMILY_SHARE: f64 = 0.5;
+pub use crate::modal::mode::AXLE_FAMILY_SHARE;
 
 /// A body of revolution ready to solve.
 #[derive(Clone, Debug)]
@@ -501,6 +498,9 @@ pub fn solve_harmonic(
 }
 
 /// Solve one harmonic on a precomputed structure (dof map, count, pattern).
+///
+/// Kept in one piece: assembly, axis conditions, solve and labelling of one harmonic share the
+/// section's numbering.
 fn solve_harmonic_with(
     model: &AxisymModel,
     harmonic: u32,

@@ -1,0 +1,379 @@
+//! Block linear algebra in the M inner product for the block Lanczos: the M product of a
+//! block, small dense products, M-orthonormalisation (Cholesky QR twice, SVQB), the next
+//! Krylov block with its coupling, and the random start block.
+
+use crate::fem::assembly::sym_lower_matvec;
+use crate::{Error, Result};
+use faer::linalg::matmul::matmul;
+use faer::sparse::SparseColMat;
+use faer::{Accum, Mat, MatMut, MatRef, Par, Side};
+use rayon::prelude::*;
+
+/// Deterministic pseudo-random start vector (xorshift), so runs are reproducible; both
+/// Lanczos solvers (3D and axisymmetric) start from it.
+pub(crate) fn random_vector(n: usize, seed: u64) -> Vec<f64> {
+    let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    (0..n)
+        .map(|_| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        })
+        .collect()
+}
+
+/// Columns per pass of [`m_block`] over the matrix.
+pub(super) const MATVEC_TILE: usize = 8;
+
+/// `out = A v` for a block of columns (column-major, `n` rows each; A symmetric, lower
+/// triangle stored). Columns go in tiles of 8, tiles in parallel; a tile is interleaved
+/// row-major so that one pass over A's entries updates 8 contiguous values (A is read once
+/// per tile instead of once per column).
+pub(super) fn m_block(a: &SparseColMat<usize, f64>, v: &[f64], out: &mut [f64]) {
+    let n = a.nrows();
+    let col_ptr = a.symbolic().col_ptr();
+    let row_idx = a.symbolic().row_idx();
+    let val = a.val();
+    const T: usize = MATVEC_TILE;
+    out.par_chunks_mut(n * T)
+        .zip(v.par_chunks(n * T))
+        .for_each(|(o, x)| {
+            let cols = x.len() / n;
+            if cols < T {
+                for (oc, xc) in o.chunks_mut(n).zip(x.chunks(n)) {
+                    sym_lower_matvec(a, xc, oc);
+                }
+                return;
+            }
+            let mut xr = vec![0.0; n * T];
+            for c in 0..T {
+                for r in 0..n {
+                    xr[r * T + c] = x[c * n + r];
+                }
+            }
+            let mut yr = vec![0.0; n * T];
+            for j in 0..n {
+                let xj: [f64; T] = xr[j * T..(j + 1) * T].try_into().unwrap_or([0.0; T]);
+                let mut acc = [0.0; T];
+                for p in col_ptr[j]..col_ptr[j + 1] {
+                    let i = row_idx[p];
+                    let w = val[p];
+                    let yi = &mut yr[i * T..(i + 1) * T];
+                    for c in 0..T {
+                        yi[c] += w * xj[c];
+                    }
+                    if i != j {
+                        let xi = &xr[i * T..(i + 1) * T];
+                        for c in 0..T {
+                            acc[c] += w * xi[c];
+                        }
+                    }
+                }
+                for c in 0..T {
+                    yr[j * T + c] += acc[c];
+                }
+            }
+            for c in 0..T {
+                for r in 0..n {
+                    o[c * n + r] = yr[r * T + c];
+                }
+            }
+        });
+}
+
+/// `C = Aᵀ B` (A: n x ka, B: n x kb, column-major slices), parallel dense product.
+pub(super) fn at_b(a: &[f64], b: &[f64], n: usize) -> Mat<f64> {
+    let (ka, kb) = (a.len() / n, b.len() / n);
+    let mut c = Mat::<f64>::zeros(ka, kb);
+    matmul(
+        c.as_mut(),
+        Accum::Replace,
+        MatRef::from_column_major_slice(a, n, ka).transpose(),
+        MatRef::from_column_major_slice(b, n, kb),
+        1.0,
+        Par::rayon(0),
+    );
+    c
+}
+
+/// `B += alpha A C` (A: n x ka column-major, C: ka x kb, B: n x kb column-major).
+pub(super) fn add_a_c(b: &mut [f64], a: &[f64], c: MatRef<'_, f64>, alpha: f64, n: usize) {
+    let (ka, kb) = (a.len() / n, b.len() / n);
+    matmul(
+        MatMut::from_column_major_slice_mut(b, n, kb),
+        Accum::Add,
+        MatRef::from_column_major_slice(a, n, ka),
+        c,
+        alpha,
+        Par::rayon(0),
+    );
+}
+
+/// Cholesky `G = Rᵀ R` of a small symmetric positive definite matrix (plain loops, `b <= 32`);
+/// `None` when a pivot falls below `rel_floor` times the largest diagonal entry (the block's
+/// columns are numerically dependent).
+pub(super) fn small_cholesky_upper(g: &Mat<f64>, rel_floor: f64) -> Option<Mat<f64>> {
+    let b = g.nrows();
+    let scale = (0..b).map(|i| g[(i, i)]).fold(0.0f64, f64::max);
+    if scale.is_nan() || scale <= 0.0 || !scale.is_finite() {
+        return None;
+    }
+    let mut r = Mat::<f64>::zeros(b, b);
+    for j in 0..b {
+        let mut d = g[(j, j)];
+        for k in 0..j {
+            d -= r[(k, j)] * r[(k, j)];
+        }
+        if d.is_nan() || d <= rel_floor * scale {
+            return None;
+        }
+        let rjj = d.sqrt();
+        r[(j, j)] = rjj;
+        for i in j + 1..b {
+            let mut s = 0.5 * (g[(j, i)] + g[(i, j)]);
+            for k in 0..j {
+                s -= r[(k, j)] * r[(k, i)];
+            }
+            r[(j, i)] = s / rjj;
+        }
+    }
+    Some(r)
+}
+
+/// Inverse of a small upper triangular matrix.
+pub(super) fn upper_inverse(r: &Mat<f64>) -> Mat<f64> {
+    let b = r.nrows();
+    let mut x = Mat::<f64>::zeros(b, b);
+    for j in 0..b {
+        x[(j, j)] = 1.0 / r[(j, j)];
+        for i in (0..j).rev() {
+            let mut s = 0.0;
+            for k in i + 1..=j {
+                s += r[(i, k)] * x[(k, j)];
+            }
+            x[(i, j)] = -s / r[(i, i)];
+        }
+    }
+    x
+}
+
+/// M-orthonormalises the block `w` (already M-orthogonal to the basis) in place by Cholesky QR,
+/// twice ("CholQR2": the second pass restores orthogonality to rounding). Returns `R` with
+/// `w_in = w_out R`, or `None` when the block is numerically rank deficient.
+pub(super) fn m_cholqr2(w: &mut [f64], mw: &mut [f64], n: usize) -> Option<Mat<f64>> {
+    let b = w.len() / n;
+    let mut r_total = Mat::<f64>::identity(b, b);
+    for pass in 0..2 {
+        let g = at_b(w, mw, n);
+        // First pass: columns whose M-norm dropped below 1e-10 of the largest are dependent.
+        let r = small_cholesky_upper(&g, if pass == 0 { 1e-20 } else { 1e-30 })?;
+        let rinv = upper_inverse(&r);
+        // W R⁻¹ and (M W) R⁻¹ = M (W R⁻¹): the M product follows the columns without a sparse
+        // product (exact up to rounding of the same order as the update of W itself).
+        for v in [&mut *w, &mut *mw] {
+            let mut out = vec![0.0; v.len()];
+            add_a_c(&mut out, v, rinv.as_ref(), 1.0, n);
+            v.copy_from_slice(&out);
+        }
+        let mut next = Mat::<f64>::zeros(b, b);
+        matmul(
+            next.as_mut(),
+            Accum::Replace,
+            r.as_ref(),
+            r_total.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        r_total = next;
+    }
+    Some(r_total)
+}
+
+/// Completes one block Lanczos step: `w` (already M-orthogonalised against `q`, with
+/// coefficients `c`: `Op V = Q c + w`) is replaced by an M-orthonormal block `V_next`, orthogonal
+/// to `q`, with `Op V = Q c' + V_next B`; `c` is updated to `c'` and `B` returned.
+///
+/// Near convergence the residual block is ill-conditioned: some of its directions have
+/// converged (tiny norm), others not. Cholesky QR alone would square its condition number and
+/// amplify what rounding left along `Q`. So: SVQB (Stathopoulos & Wu 2002: scale the columns,
+/// eigen-decompose the Gram matrix, `W V Λ^{-1/2}`), with numerically null directions (singular
+/// value below 1e-13 of `scale`, the norm of `Op V`) replaced by random vectors (their rows of
+/// `B` are zero: the Krylov space is invariant there), then a second Gram-Schmidt against `q`
+/// and Cholesky QR, whose corrections enter `c` and `B`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn next_block(
+    m: &SparseColMat<usize, f64>,
+    q: &[f64],
+    mq: &[f64],
+    w: &mut [f64],
+    mw: &mut [f64],
+    c: &mut Mat<f64>,
+    scale: f64,
+    n: usize,
+    seed: u64,
+) -> Result<Mat<f64>> {
+    let b = w.len() / n;
+    m_block(m, w, mw);
+    let g = at_b(w, mw, n);
+    let null_col = (1e-13 * scale).powi(2);
+    let d: Vec<f64> = (0..b)
+        .map(|i| {
+            if g[(i, i)] > null_col {
+                1.0 / g[(i, i)].sqrt()
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let gs = Mat::<f64>::from_fn(b, b, |i, j| d[i] * 0.5 * (g[(i, j)] + g[(j, i)]) * d[j]);
+    let evd = gs
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|e| Error::Numerical(format!("block Gram matrix eigen solve failed: {e:?}")))?;
+    let lam = evd.S().column_vector();
+    let v = evd.U();
+    let lam_max = (0..b).map(|i| lam[i]).fold(0.0f64, f64::max);
+    // Transform T (W_new = W T) and B1 (W = W_new B1 on the kept directions).
+    let mut t = Mat::<f64>::zeros(b, b);
+    let mut b1 = Mat::<f64>::zeros(b, b);
+    let mut null = Vec::new();
+    for i in 0..b {
+        // Directions with a singular value below 1e-10 of the block's largest are replaced
+        // (their residual is below what the convergence test resolves; the Sturm count and the
+        // final residuals check the result).
+        if lam[i] > 1e-20 * lam_max && lam_max > 0.0 {
+            let s = lam[i].sqrt();
+            for r in 0..b {
+                t[(r, i)] = d[r] * v[(r, i)] / s;
+                // B1 = Λ^{1/2} Vᵀ D^{-1}
+                if d[r] > 0.0 {
+                    b1[(i, r)] = s * v[(r, i)] / d[r];
+                }
+            }
+        } else {
+            null.push(i);
+        }
+    }
+    let mut w1 = vec![0.0; w.len()];
+    add_a_c(&mut w1, w, t.as_ref(), 1.0, n);
+    for &i in &null {
+        let r = random_vector(n, seed.wrapping_mul(31).wrapping_add(i as u64));
+        w1[i * n..(i + 1) * n].copy_from_slice(&r);
+    }
+    let mut mw1 = vec![0.0; w.len()];
+    // Second round against Q, needed when SVQB amplified what rounding left along Q: by the
+    // block's condition number kappa (orthogonality loss ~ eps kappa). Skipped below kappa =
+    // 1e4 (loss <= 1e-12) with no replaced direction: it is two more sweeps over the basis.
+    let lam_min_kept = (0..b)
+        .filter(|i| !null.contains(i))
+        .map(|i| lam[i])
+        .fold(f64::INFINITY, f64::min);
+    let d_max = d.iter().cloned().fold(0.0f64, f64::max);
+    let d_min = d.iter().cloned().fold(f64::INFINITY, f64::min);
+    let kappa = (lam_max / lam_min_kept).sqrt() * d_max / d_min;
+    let c3 = if null.is_empty() && kappa.is_finite() && kappa < 1e4 {
+        // M W1 = (M W) T: well conditioned (kappa < 1e4), the update loses no more than the
+        // orthogonality bound above.
+        add_a_c(&mut mw1, mw, t.as_ref(), 1.0, n);
+        Mat::<f64>::zeros(q.len() / n, b)
+    } else {
+        let c3 = m_orthogonalise(q, mq, &mut w1, n);
+        m_block(m, &w1, &mut mw1);
+        c3
+    };
+    let r2 = m_cholqr2(&mut w1, &mut mw1, n).ok_or_else(|| {
+        Error::Numerical(
+            "block Lanczos: the Krylov basis cannot be extended (basis spans the space)".into(),
+        )
+    })?;
+    // Op V = Q c + W1 B1 = Q (c + c3 B1) + V_next (R2 B1).
+    matmul(
+        c.as_mut(),
+        Accum::Add,
+        c3.as_ref(),
+        b1.as_ref(),
+        1.0,
+        Par::Seq,
+    );
+    let mut beta = Mat::<f64>::zeros(b, b);
+    matmul(
+        beta.as_mut(),
+        Accum::Replace,
+        r2.as_ref(),
+        b1.as_ref(),
+        1.0,
+        Par::Seq,
+    );
+    w.copy_from_slice(&w1);
+    mw.copy_from_slice(&mw1);
+    Ok(beta)
+}
+
+/// Two passes of block classical Gram-Schmidt of `w` against the M-orthonormal basis `q`
+/// (column-major, `n` rows) in the M inner product, with `mq = M q` kept beside the basis so
+/// that a pass is two dense products and no sparse one; returns the summed coefficients
+/// `Qᵀ M w`.
+pub(super) fn m_orthogonalise(q: &[f64], mq: &[f64], w: &mut [f64], n: usize) -> Mat<f64> {
+    let (k, b) = (q.len() / n, w.len() / n);
+    let mut total = Mat::<f64>::zeros(k, b);
+    if k == 0 {
+        return total;
+    }
+    for _ in 0..2 {
+        let c = at_b(mq, w, n);
+        add_a_c(w, q, c.as_ref(), -1.0, n);
+        total += &c;
+    }
+    total
+}
+
+/// Gram-Schmidt of a Lanczos residual block `w = Op V` against `q`: first against the last
+/// `recent` columns of `q` (in exact arithmetic `Op V` has components only along the current
+/// and the previous block: the three-term block recurrence, and they are large), then one pass
+/// against all of `q`, which removes what rounding left along the older columns. After the
+/// large components are gone that pass loses little norm, so one pass reaches working
+/// precision where [`m_orthogonalise`] needs two full ones ("twice is enough", Parlett,
+/// The Symmetric Eigenvalue Problem, section 6.9). Returns the summed coefficients `Qᵀ M w`.
+pub(super) fn m_orthogonalise_lanczos(
+    q: &[f64],
+    mq: &[f64],
+    w: &mut [f64],
+    n: usize,
+    recent: usize,
+) -> Mat<f64> {
+    let (k, b) = (q.len() / n, w.len() / n);
+    let first = k.saturating_sub(recent);
+    let local = at_b(&mq[first * n..], w, n);
+    add_a_c(w, &q[first * n..], local.as_ref(), -1.0, n);
+    let mut total = at_b(mq, w, n);
+    add_a_c(w, q, total.as_ref(), -1.0, n);
+    for j in 0..b {
+        for i in first..k {
+            total[(i, j)] += local[(i - first, j)];
+        }
+    }
+    total
+}
+
+/// A random block (seeded) M-orthogonal to `q` and M-orthonormal.
+pub(super) fn start_block(
+    m: &SparseColMat<usize, f64>,
+    q: &[f64],
+    mq: &[f64],
+    n: usize,
+    b: usize,
+    seed: u64,
+) -> Result<(Vec<f64>, Vec<f64>)> {
+    for attempt in 0..4 {
+        let mut w = random_vector(n * b, seed * 16 + attempt);
+        m_orthogonalise(q, mq, &mut w, n);
+        let mut mw = vec![0.0; w.len()];
+        m_block(m, &w, &mut mw);
+        if m_cholqr2(&mut w, &mut mw, n).is_some() {
+            return Ok((w, mw));
+        }
+    }
+    Err(Error::Numerical(
+        "could not extend the Krylov basis: the basis spans the whole space".into(),
+    ))
+}

@@ -1,0 +1,296 @@
+//! Spectrum slicing: the band cut into slices, one shift per slice (`L D Lᵀ` inside the band),
+//! and the block Lanczos of one slice, which returns exactly the slice's Sturm count.
+
+use super::block::{add_a_c, m_block, m_orthogonalise_lanczos, next_block, start_block};
+use super::dense::ritz;
+use super::factor::ShiftInvert;
+use super::solution::{ModalOptions, Mode};
+use crate::{Error, Result};
+use faer::sparse::SparseColMat;
+use faer::Mat;
+use rayon::prelude::*;
+use std::f64::consts::PI;
+use std::time::Instant;
+
+/// One slice of the band and the shift that serves it: the modes with `lambda_lo < w² <=
+/// lambda_hi` from Lanczos on `Op = (K - sigma M)⁻¹ M`, whose eigenvalues are
+/// `theta = 1 / (w² - sigma)`. The slice is `theta >= theta_hi = 1 / (lambda_hi - sigma)`, and,
+/// for a shift inside the band (`lambda_lo < sigma`), also `theta <= theta_lo = 1 / (lambda_lo -
+/// sigma) < 0`: Lanczos converges from both ends of the operator's spectrum at once.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Slice {
+    pub(super) sigma: f64,
+    pub(super) lambda_lo: f64,
+    pub(super) lambda_hi: f64,
+}
+
+impl Slice {
+    pub(super) fn theta_hi(&self) -> f64 {
+        1.0 / (self.lambda_hi - self.sigma)
+    }
+    pub(super) fn theta_lo(&self) -> f64 {
+        // The first slice has no lower edge (and its shift lies below the spectrum): no
+        // negative side.
+        if self.lambda_lo.is_finite() && self.lambda_lo < self.sigma {
+            1.0 / (self.lambda_lo - self.sigma)
+        } else {
+            f64::NEG_INFINITY
+        }
+    }
+    /// `theta` inside the slice, with a relative margin `rel` (> 0 widens it).
+    pub(super) fn contains_theta(&self, theta: f64, rel: f64) -> bool {
+        theta >= self.theta_hi() * (1.0 - rel) || theta <= self.theta_lo() * (1.0 - rel)
+    }
+}
+
+/// Lanczos iterations and purification over one slice (see [`solve`]).
+pub(super) struct SliceResult {
+    pub(super) modes: Vec<Mode>,
+    pub(super) basis: usize,
+    pub(super) blocks: usize,
+}
+
+/// Most slices of a band (each is a factorisation and a Sturm count).
+pub const MAX_SLICES: usize = 32;
+
+/// The number of slices is in `1..=MAX_SLICES` (checked by [`solve`]; the command line checks it
+/// before any work).
+pub fn check_slices(slices: usize) -> Result<()> {
+    if !(1..=MAX_SLICES).contains(&slices) {
+        return Err(Error::input(
+            "command line",
+            "--slices",
+            format!("{slices} is outside the allowed range 1..={MAX_SLICES}"),
+        ));
+    }
+    Ok(())
+}
+
+/// Block Lanczos on `op` until the modes of `slice` have converged (`count` of them when the
+/// Sturm counts are known), then purification, Rayleigh quotients and residuals. `rigid_scale`
+/// is the band's stiffness scale for the residual of rigid modes.
+///
+/// Kept in one piece: the Lanczos loop of one slice, whose state (basis, projected matrix,
+/// convergence bookkeeping) lives across iterations; the algebra it calls is in block.rs and
+/// dense.rs.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn solve_slice(
+    k: &SparseColMat<usize, f64>,
+    m: &SparseColMat<usize, f64>,
+    op: &ShiftInvert<'_>,
+    slice: &Slice,
+    count: Option<usize>,
+    opts: &ModalOptions,
+    slice_index: usize,
+    rigid_scale: f64,
+) -> Result<SliceResult> {
+    let started = Instant::now();
+    let n = k.nrows();
+    let trace = std::env::var_os("SQUEAL_MODAL_TRACE").is_some();
+    let in_band = |theta: f64| slice.contains_theta(theta, 0.0);
+    // Block size: larger than any eigenvalue multiplicity expected (6 rigid modes at w² = 0,
+    // pairs for bodies of revolution), and a multi-column solve reads the factor once per
+    // block.
+    let b = opts.block_size.clamp(1, n);
+    // Whole blocks only.
+    let max_basis = (opts.max_basis.min(n) / b).max(1) * b;
+    // Relative Ritz residual ||Op x - theta x||_M / |theta| for "converged": 1e-10 gives final
+    // residuals below 1.5e-10 after purification on the 102 k dof wheel at 10 kHz (1e-9 gave
+    // 9.3e-10, too close to the 1e-8 bound; 1e-11 cost one more block in ten), measured
+    // 2026-11-23.
+    let ritz_tol = 1e-10;
+
+    // Basis Q (M-orthonormal, column-major n x k), columns of H = Qᵀ M Op Q (upper part: the
+    // coefficients of column c against columns 0..=end of its block).
+    let mut q: Vec<f64> = Vec::new();
+    let mut mq: Vec<f64> = Vec::new();
+    let mut h_cols: Vec<Vec<f64>> = Vec::new();
+    let (mut block, mut block_m) = start_block(m, &q, &mq, n, b, 1 + 97 * slice_index as u64)?;
+    // Null-direction scale: ||Op v||_M <= 1 / |sigma| for M-normalised v below the spectrum
+    // (K semi-definite); inside it ||Op|| is larger, so this threshold only gets stricter.
+    let scale = 1.0 / slice.sigma.abs().max(1e-300);
+    let mut blocks = 0;
+    let mut next_check = 2;
+    let mut phase_s = [0.0f64; 4]; // solve, orthogonalise, next block, Ritz
+    let dim = loop {
+        let j0 = q.len() / n;
+        q.extend_from_slice(&block);
+        mq.extend_from_slice(&block_m);
+        let k_dim = j0 + b;
+        blocks += 1;
+        let mut w = vec![0.0; n * b];
+        let t0 = Instant::now();
+        op.apply_block(&block_m, &mut w);
+        let t1 = Instant::now();
+        let mut c = m_orthogonalise_lanczos(&q, &mq, &mut w, n, 2 * b);
+        let t2 = Instant::now();
+        // With the basis spanning the whole space the residual block is zero.
+        let beta = if k_dim >= n {
+            Mat::<f64>::zeros(b, b)
+        } else {
+            next_block(
+                m,
+                &q,
+                &mq,
+                &mut w,
+                &mut block_m,
+                &mut c,
+                scale,
+                n,
+                blocks as u64 + 7 + 1000 * slice_index as u64,
+            )?
+        };
+        phase_s[0] += (t1 - t0).as_secs_f64();
+        phase_s[1] += (t2 - t1).as_secs_f64();
+        phase_s[2] += t2.elapsed().as_secs_f64();
+        for col in 0..b {
+            h_cols.push((0..k_dim).map(|i| c[(i, col)]).collect());
+        }
+        let next_block = w;
+        let exhausted = k_dim + b > max_basis;
+        if blocks >= next_check || exhausted {
+            let t3 = Instant::now();
+            let (theta, u) = ritz(&h_cols, k_dim)?;
+            phase_s[3] += t3.elapsed().as_secs_f64();
+            // est_i = ||B u_i(last block)||: the M-norm of Op x_i - theta_i x_i.
+            let est: Vec<f64> = (0..k_dim)
+                .map(|i| {
+                    (0..b)
+                        .map(|r| {
+                            (0..b)
+                                .map(|cc| beta[(r, cc)] * u[(j0 + cc, i)])
+                                .sum::<f64>()
+                                .powi(2)
+                        })
+                        .sum::<f64>()
+                        .sqrt()
+                })
+                .collect();
+            let conv = |i: usize| est[i] <= ritz_tol * theta[i].abs();
+            let all_in_band = (0..k_dim).filter(|&i| in_band(theta[i])).all(conv);
+            // A converged Ritz value past the band edge: the band's Ritz values have passed
+            // theirs (interlacing); only used without a Sturm count (a single slice below the
+            // spectrum, where all theta are positive).
+            let beyond = (0..k_dim).any(|i| !in_band(theta[i]) && theta[i] > 0.0 && conv(i));
+            let n_band = (0..k_dim).filter(|&i| in_band(theta[i])).count();
+            let n_conv = (0..k_dim).filter(|&i| in_band(theta[i]) && conv(i)).count();
+            if trace {
+                eprintln!(
+                    "trace: {:.2} s basis {k_dim}: {n_conv}/{n_band} in band converged",
+                    started.elapsed().as_secs_f64()
+                );
+            }
+            let done = match count {
+                // Exactly the counted modes in the band, all converged.
+                Some(count) => all_in_band && n_band == count,
+                // No count: a converged Ritz value past the band edge means the band's have
+                // passed theirs (interlacing).
+                None => all_in_band && beyond,
+            };
+            if done {
+                break k_dim;
+            }
+            if exhausted || k_dim >= n {
+                // No room for another block: accept a converged band (the Sturm count checks
+                // that it is complete).
+                if all_in_band {
+                    break k_dim;
+                }
+                return Err(Error::Numerical(format!(
+                    "block Lanczos did not converge for all modes in {:.1}..{:.1} Hz within {} \
+                     basis vectors; lower --fmax-hz, coarsen the mesh or split the band \
+                     (--slices)",
+                    slice.lambda_lo.max(0.0).sqrt() / (2.0 * PI),
+                    slice.lambda_hi.sqrt() / (2.0 * PI),
+                    max_basis
+                )));
+            }
+            // Check again after ~15 % more basis (the dense eigen solve of H costs k³, 0.2 s
+            // in all for a 592-vector basis), or on every block once three quarters of the
+            // counted modes have converged.
+            let closing = count.is_some_and(|count| 4 * n_conv >= 3 * count);
+            next_check = if closing {
+                blocks + 1
+            } else {
+                blocks + 1.max(blocks * 3 / 20)
+            };
+        }
+        block = next_block;
+    };
+
+    if trace {
+        eprintln!(
+            "trace: phases (s): solve {:.2}, orthogonalise {:.2}, next block {:.2}, Ritz {:.2}",
+            phase_s[0], phase_s[1], phase_s[2], phase_s[3]
+        );
+    }
+    // Ritz pairs of the final H.
+    let (theta, u) = ritz(&h_cols, dim)?;
+    // Ritz vectors in the band, purified by one more application of Op (damps what rounding
+    // left along unwanted modes), Rayleigh quotients, residuals.
+    let wanted: Vec<usize> = (0..dim)
+        .filter(|&i| slice.contains_theta(theta[i], 1e-9))
+        .collect();
+    let n_wanted = wanted.len();
+    let u_wanted = Mat::<f64>::from_fn(dim, n_wanted, |r, c| u[(r, wanted[c])]);
+    let mut x = vec![0.0; n * n_wanted];
+    add_a_c(&mut x, &q[..n * dim], u_wanted.as_ref(), 1.0, n);
+    drop(q);
+    drop(mq);
+    let mut y = vec![0.0; n * n_wanted];
+    if n_wanted > 0 {
+        let mut mx = vec![0.0; x.len()];
+        m_block(m, &x, &mut mx);
+        op.apply_block(&mx, &mut y);
+    }
+    drop(x);
+    let mut ky = vec![0.0; y.len()];
+    let mut my = vec![0.0; y.len()];
+    m_block(k, &y, &mut ky);
+    m_block(m, &y, &mut my);
+    let modes: Vec<Mode> = (0..n_wanted)
+        .into_par_iter()
+        .map(|c| {
+            let (yc, kyc, myc) = (
+                &y[c * n..(c + 1) * n],
+                &ky[c * n..(c + 1) * n],
+                &my[c * n..(c + 1) * n],
+            );
+            let ymy: f64 = yc.iter().zip(myc).map(|(a, b)| a * b).sum();
+            let yky: f64 = yc.iter().zip(kyc).map(|(a, b)| a * b).sum();
+            let nrm = ymy.max(0.0).sqrt();
+            let lambda = yky / ymy;
+            let r: f64 = kyc
+                .iter()
+                .zip(myc)
+                .map(|(a, b)| (a - lambda * b).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            let ky_norm = kyc.iter().map(|a| a * a).sum::<f64>().sqrt();
+            let my_norm = myc.iter().map(|a| a * a).sum::<f64>().sqrt();
+            let freq = lambda.signum() * lambda.abs().sqrt() / (2.0 * PI);
+            let rigid = freq.abs() < opts.rigid_below_hz;
+            // ||K x|| for flexible modes. For rigid modes ||K x|| is itself round-off, so the
+            // scale is the band's stiffness, max(w_max², |sigma|) ||M x||: a backward error of
+            // the size the band's modes are held to.
+            let denom = if rigid {
+                ky_norm.max(rigid_scale * my_norm)
+            } else {
+                ky_norm
+            };
+            Mode {
+                frequency_hz: freq,
+                eigenvalue: lambda,
+                residual: r / denom,
+                rigid,
+                vector: yc.iter().map(|v| v / nrm).collect(),
+            }
+        })
+        .filter(|mode| mode.eigenvalue > slice.lambda_lo && mode.eigenvalue <= slice.lambda_hi)
+        .collect();
+    Ok(SliceResult {
+        modes,
+        basis: dim,
+        blocks,
+    })
+}

@@ -1,0 +1,106 @@
+//! Where a rolling step's time goes: the model of a case built as `simulate` builds it (no
+//! preload), a few warm-up steps so that the wheel presses on the rail, then the element
+//! forces, the contact forces and whole steps timed apart; the rest of a step (integration,
+//! rigid body, springs, ties) is the difference. The projection multiplies the whole step by
+//! the case's number of steps: the time loop's wall time without output or preload.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use super::build::build;
+use crate::explicit::solver::AuxForces;
+use crate::model::case::LoadedCase;
+use crate::{Error, Result};
+
+/// Warm-up steps before timing: the contact engages and the caches fill.
+const WARM_UP_STEPS: usize = 50;
+
+/// The figures of one rolling step.
+#[derive(Clone, Debug, Serialize)]
+pub struct StepProfile {
+    /// Nodes.
+    pub nodes: usize,
+    /// Elements.
+    pub elements: usize,
+    /// Contact slave nodes tested every step.
+    pub contact_slaves: usize,
+    /// Threads (rayon).
+    pub threads: usize,
+    /// Time step (s) of the built model (before the preload).
+    pub time_step_s: f64,
+    /// What limits it.
+    pub time_step_limited_by: String,
+    /// Steps timed per part.
+    pub steps: usize,
+    /// A whole step (ms).
+    pub step_ms: f64,
+    /// Element forces (ms).
+    pub elements_ms: f64,
+    /// Contact forces (ms).
+    pub contact_ms: f64,
+    /// The rest: integration, rigid body, springs, ties (ms).
+    pub rest_ms: f64,
+    /// Element forces per element and step (ns).
+    pub ns_per_element_step: f64,
+    /// Contact's share of a whole step.
+    pub contact_share: f64,
+    /// Steps of the case's time loop (end time / step).
+    pub case_steps: usize,
+    /// Projected wall time of the case's time loop (s).
+    pub projected_time_loop_s: f64,
+}
+
+/// Times `steps` steps of each part of the case's rolling step.
+pub fn step_profile(loaded: &LoadedCase, steps: usize) -> Result<StepProfile> {
+    if !(1..=1_000_000).contains(&steps) {
+        return Err(Error::input(
+            "command line",
+            "--steps",
+            format!("must be in [1, 1000000], got {steps}"),
+        ));
+    }
+    let mut m = build(loaded)?;
+    for _ in 0..WARM_UP_STEPS {
+        m.solver.step_with(&mut m.contact, false, false)?;
+    }
+    let started = Instant::now();
+    for _ in 0..steps {
+        m.solver.compute_internal_forces();
+    }
+    let elements_s = started.elapsed().as_secs_f64() / steps as f64;
+    // The contact's forces into a scratch array: the same search and force evaluation as in a
+    // step, without moving the model.
+    let mut force = vec![[0.0; 3]; m.solver.u.len()];
+    let started = Instant::now();
+    for _ in 0..steps {
+        let (t, dt) = (m.solver.time_s, m.solver.dt_s);
+        m.contact
+            .add_forces(t, dt, &m.solver.u, &m.solver.v, &mut force);
+    }
+    let contact_s = started.elapsed().as_secs_f64() / steps as f64;
+    let started = Instant::now();
+    for _ in 0..steps {
+        m.solver.step_with(&mut m.contact, false, false)?;
+    }
+    let step_s = started.elapsed().as_secs_f64() / steps as f64;
+    let elements = m.solver.model.elements.len();
+    let case_steps = (loaded.case.end_time_s / m.solver.dt_s).ceil() as usize;
+    Ok(StepProfile {
+        nodes: m.solver.u.len(),
+        elements,
+        contact_slaves: m.info.contact_slaves,
+        threads: rayon::current_num_threads(),
+        time_step_s: m.solver.dt_s,
+        time_step_limited_by: m.info.time_step_limited_by.clone(),
+        steps,
+        step_ms: step_s * 1e3,
+        elements_ms: elements_s * 1e3,
+        contact_ms: contact_s * 1e3,
+        rest_ms: (step_s - elements_s - contact_s) * 1e3,
+        ns_per_element_step: elements_s * 1e9 / elements as f64,
+        contact_share: contact_s / step_s,
+        case_steps,
+        projected_time_loop_s: step_s * case_steps as f64,
+    })
+}
