@@ -110,3 +110,26 @@ fn operating_points_outside_the_model_exit_2_with_the_field_and_range() {
         &["--fx/--fy", "exceeds mu Fn", "|F| <= mu Fn"],
     );
 }
+
+/// `squeal bench stability` prints its figures (a small run: 20 wheel coordinates, one
+/// repeat, a 2-point sweep) and refuses a coordinate count outside 1..=2000 with code 2.
+#[test]
+fn bench_stability_prints_point_and_sweep_times_and_refuses_bad_counts() {
+    let bench = |modes: &str| {
+        squeal()
+            .args(["bench", "stability", "--case", CASE, "--wheel-modes", modes])
+            .args(["--repeats", "1", "--points", "2"])
+            .output()
+            .unwrap()
+    };
+    let o = bench("20");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout.contains("wheel: 20 coordinates"), "{stdout}");
+    assert!(
+        stdout.lines().last().unwrap().starts_with("point_seconds="),
+        "{stdout}"
+    );
+    assert!(stdout.contains("sweep_seconds="));
+    assert_refused(&bench("0"), &["--wheel-modes", "1..=2000"]);
+}
