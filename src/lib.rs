@@ -25,5 +25,6 @@ pub mod report;
 pub mod rolling;
 pub mod scenario;
 pub mod signal;
+pub mod stability;
 pub mod table;
 pub use error::{Error, Result};

@@ -40,6 +40,8 @@ enum Command {
     Modes(cli::modes::ModesArgs),
     /// Benchmarks that print the figures of docs/performance.md.
     Bench(cli::bench::BenchArgs),
+    /// Squeal stability: complex eigenvalues of the wheel-rail system at an operating point.
+    Stability(cli::stability::StabilityArgs),
 }
 
 /// Every option that takes a value accepts a negative number (`--density-kg-per-m3 -7850`),
@@ -78,6 +80,7 @@ fn main() {
         Some(Command::Bench(args)) => cli::bench::run(args),
         Some(Command::Simulate(args)) => cli::simulate::run(args),
         Some(Command::Axisym(args)) => cli::axisym::run(args),
+        Some(Command::Stability(args)) => cli::stability::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");

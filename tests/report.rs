@@ -133,3 +133,50 @@ fn report_without_histories_is_an_input_error() {
     assert_eq!(e.exit_code(), 2);
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// A run with a `stability.json`: the report's stability section lists the predicted unstable
+/// modes with the nearest PSD peak (the synthetic lateral vibration peaks at 1050 Hz, 1 %
+/// above the predicted 1040 Hz: within the 5 % tolerance; no peak within 5 % of 4000 Hz).
+#[test]
+fn report_shows_predicted_unstable_modes_beside_the_psd_peaks() {
+    let root: PathBuf =
+        std::env::temp_dir().join(format!("squeal-report-stab-{}", std::process::id()));
+    let run = root.join("case3");
+    write_run(&run, 1.0);
+    std::fs::write(
+        run.join("stability.json"),
+        r#"{"operating_point": {"origin": "case file x (eta 0.430 %)"},
+            "settings": {"fmax_hz": 5000.0},
+            "unstable": [
+              {"frequency_hz": 1040.0, "growth_rate_per_s": 12.5, "dominant": "(0,3) axial 1011 Hz", "share": 0.9},
+              {"frequency_hz": 4000.0, "growth_rate_per_s": 3.0, "dominant": "rail lateral 4000 Hz", "share": 0.6}
+            ]}"#,
+    )
+    .unwrap();
+    let out = root.join("out");
+    let summary =
+        build_report(std::slice::from_ref(&run), &out, "t", &Default::default()).expect("report");
+    assert!(summary
+        .sections
+        .iter()
+        .any(|s| s == "Predicted unstable modes beside the PSD peaks"));
+    let md = std::fs::read_to_string(out.join("index.md")).unwrap();
+    println!("{md}");
+    let row = |start: &str| {
+        md.lines()
+            .find(|l| l.starts_with(start))
+            .unwrap_or_else(|| panic!("no row {start}: {md}"))
+            .to_string()
+    };
+    let first = row("| 1040.0 | +12.50 | (0,3) axial 1011 Hz (90 %) |");
+    assert!(first.contains("| 1050 Hz lateral (rank 1) |"), "{first}");
+    assert!(first.ends_with("| yes |"), "{first}");
+    assert!(row("| 4000.0 | +3.00 | rail lateral 4000 Hz (60 %) |").ends_with("| no |"));
+    // A broken file is an input error naming it.
+    std::fs::write(run.join("stability.json"), r#"{"settings": {}}"#).unwrap();
+    let e = build_report(std::slice::from_ref(&run), &out, "t", &Default::default())
+        .expect_err("broken stability.json");
+    assert!(e.to_string().contains("stability.json"), "{e}");
+    assert_eq!(e.exit_code(), 2);
+    let _ = std::fs::remove_dir_all(&root);
+}

@@ -18,6 +18,9 @@ pub enum BenchWhat {
     /// Modal band solve of exported matrices (`squeal modes --export-mtx DIR`): reads DIR/K.mtx
     /// and DIR/M.mtx, ends with `seconds=<total> modes=<count below fmax, rigid included>`.
     Modal(ModalBenchArgs),
+    /// Stability analysis: one operating point with N wheel modes and an eta sweep; ends with
+    /// `point_seconds=<value> sweep_seconds=<value>`.
+    Stability(StabilityBenchArgs),
     /// One rolling step of a case split into element forces, contact and the rest, with the
     /// projected wall time of the case's time loop; ends with `ms_per_step=<value>`.
     Rolling(RollingBenchArgs),
@@ -58,6 +61,52 @@ fn rolling(a: RollingBenchArgs) -> Result<()> {
         p.case_steps, p.projected_time_loop_s
     );
     println!("ms_per_step={:.3}", p.step_ms);
+    Ok(())
+}
+
+/// Arguments of `squeal bench stability`.
+#[derive(Args, Debug)]
+pub struct StabilityBenchArgs {
+    /// Rolling case whose wheel, track and case-file operating point are used.
+    #[arg(long, default_value = "data/scenarios/case3-demo.json")]
+    pub case: std::path::PathBuf,
+    /// Wheel modal coordinates (3D modes: an n >= 1 pair counts twice).
+    #[arg(long, default_value_t = 200)]
+    pub wheel_modes: usize,
+    /// Repeats of the single point (the median is printed).
+    #[arg(long, default_value_t = 5)]
+    pub repeats: usize,
+    /// Sweep points (eta over 0..1 %); 0 or 1: no sweep.
+    #[arg(long, default_value_t = 100)]
+    pub points: usize,
+}
+
+fn stability(a: StabilityBenchArgs) -> Result<()> {
+    let loaded = squeal::model::case::load_case(&a.case)?;
+    let r = squeal::stability::bench::run(&loaded, a.wheel_modes, a.repeats, a.points)?;
+    println!(
+        "wheel: {} coordinates to {:.0} Hz (modal solve {:.2} s); rail: {} coordinates ({:.2} s)",
+        r.wheel_coordinates,
+        r.wheel_fmax_hz,
+        r.wheel_solve_seconds,
+        r.rail_coordinates,
+        r.rail_model_seconds
+    );
+    println!(
+        "one point: {:.3} s (median of {}; linearisation {:.3} s, eigenvalues {:.3} s)",
+        r.point_seconds,
+        r.repeats,
+        r.linearise_seconds,
+        r.point_seconds - r.linearise_seconds
+    );
+    println!(
+        "sweep: {} points in {:.2} s on {} threads",
+        r.sweep_points, r.sweep_seconds, r.threads
+    );
+    println!(
+        "point_seconds={:.3} sweep_seconds={:.2}",
+        r.point_seconds, r.sweep_seconds
+    );
     Ok(())
 }
 
@@ -169,6 +218,7 @@ pub struct ExplicitBenchArgs {
 pub fn run(args: BenchArgs) -> Result<()> {
     match args.what {
         BenchWhat::Modal(a) => modal(a),
+        BenchWhat::Stability(a) => stability(a),
         BenchWhat::Rolling(a) => rolling(a),
         BenchWhat::Explicit(a) => {
             let r = squeal::explicit::bench::element_throughput(a.elements, a.threads, a.steps)?;

@@ -12,3 +12,4 @@ pub mod profile;
 pub mod report;
 pub mod signal;
 pub mod simulate;
+pub mod stability;

@@ -30,6 +30,10 @@ pub struct ReportArgs {
     /// Largest PSD bin spacing (Hz); short windows are zero-padded to reach it.
     #[arg(long, allow_negative_numbers = true)]
     pub resolution_hz: Option<f64>,
+    /// A stability.json of `squeal stability` for the runs without one of their own: the
+    /// report lists its predicted unstable modes beside the PSD peaks.
+    #[arg(long)]
+    pub stability: Option<PathBuf>,
 }
 
 /// Run `squeal report`.
@@ -42,6 +46,7 @@ pub fn run(args: ReportArgs) -> Result<()> {
         from_s: args.from_ms.map(|t| t * 1e-3),
         to_s: args.to_ms.map(|t| t * 1e-3),
         resolution_hz: args.resolution_hz,
+        stability: args.stability,
     };
     let summary = build_report(
         &args.run_dirs,

@@ -141,14 +141,7 @@ pub fn describe(loaded: &LoadedCase) -> Result<RollingDescription> {
     let rolling_radius_m = sc.wheel.tread_radius_mm(0.0) * 1e-3;
     let rim_and_hub = rim_and_hub(&mesh, &wheelset_nodes, centre, &source)?;
     let contact = contact_spec(&mesh, case, steel, &source)?;
-    let mut fixed_sets = vec![
-        ("rail_ends".to_string(), [true, true, false]),
-        ("sleeper_bottoms".to_string(), [true, true, false]),
-    ];
-    if case.track_centre_symmetry {
-        fixed_sets.push(("sleeper_centre_faces".to_string(), [false, true, false]));
-    }
-    let track_springs = track_springs(&mesh, case, &source)?;
+    let (fixed_sets, track_springs) = track_supports(&mesh, case, &source)?;
     let axle = axle_body(&mut mesh, case, &source)?;
     let sprung_mass = sprung_mass(&mesh, case, centre, &source)?;
     Ok(RollingDescription {
@@ -236,6 +229,27 @@ fn contact_spec(
         bulk_modulus_pa: steel.bulk_modulus_pa(),
         friction: case.friction,
     })
+}
+
+/// The track's supports of a case on a mesh holding the track's node sets: the fixed
+/// directions per set (rail ends and sleeper bottoms held along and across the track, the
+/// sleepers' centre faces across it where the case is symmetric about the track centre) and
+/// the ballast and pad springs ([`track_springs`]). The rolling model and the stability
+/// analysis's check of its rail against the FE track read the same supports.
+#[allow(clippy::type_complexity)]
+pub fn track_supports(
+    mesh: &Mesh,
+    case: &RollingCase,
+    source: &str,
+) -> Result<(Vec<(String, [bool; 3])>, Vec<Spring>)> {
+    let mut fixed_sets = vec![
+        ("rail_ends".to_string(), [true, true, false]),
+        ("sleeper_bottoms".to_string(), [true, true, false]),
+    ];
+    if case.track_centre_symmetry {
+        fixed_sets.push(("sleeper_centre_faces".to_string(), [false, true, false]));
+    }
+    Ok((fixed_sets, track_springs(mesh, case, source)?))
 }
 
 /// Track supports (Yang & Li 2019): ballast as vertical spring-dampers from each sleeper

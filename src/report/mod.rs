@@ -8,4 +8,5 @@ mod page;
 pub mod patch_maps;
 pub mod run_report;
 mod sections;
+pub mod stability_charts;
 pub mod table3;

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use crate::analysis::RunAnalysis;
 use crate::identify::ModeRef;
+use crate::stability::output::StabilityBrief;
 use crate::table::Table;
 
 /// A run directory as the report reads it.
@@ -15,6 +16,8 @@ pub(super) struct Run {
     pub(super) histories: Table,
     pub(super) analyses: Vec<RunAnalysis>,
     pub(super) modes: Option<Vec<ModeRef>>,
+    /// The stability analysis of the run's case: its `stability.json`, else the one given.
+    pub(super) stability: Option<StabilityBrief>,
 }
 
 /// The report page being written: its markdown, section headings and files.
@@ -50,4 +53,6 @@ pub struct ReportOptions {
     pub to_s: Option<f64>,
     /// Largest PSD bin spacing (Hz); None: [`crate::analysis::DEFAULT_RESOLUTION_HZ`].
     pub resolution_hz: Option<f64>,
+    /// A `stability.json` (of `squeal stability`) for the runs that have none of their own.
+    pub stability: Option<PathBuf>,
 }

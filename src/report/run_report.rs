@@ -5,10 +5,11 @@
 //!   side by side (paper fig. 10);
 //! - contact force histories per run (when `contact_forces.csv` is present);
 //! - modal chart (frequency against nodal diameters per family) when `modes.json` is present;
-//! - mode-to-peak tables; run metadata from `run.json`; a WAV of the lateral vibration.
+//! - mode-to-peak tables; the predicted unstable modes beside the PSD peaks when the run has a
+//!   `stability.json` (or one is given); run metadata from `run.json`; a WAV of the lateral vibration.
 //!
 //! Files read from each run directory (see [`crate::analysis`]): `histories.csv` (required),
-//! `modes.json`, `contact_forces.csv`, `run.json` (optional).
+//! `modes.json`, `contact_forces.csv`, `run.json`, `stability.json` (optional).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -20,6 +21,7 @@ use super::page::{Page, Run};
 use super::sections;
 use crate::analysis::{analyse_run, AnalysisOptions};
 use crate::identify::ModeRef;
+use crate::stability::output::read_brief;
 use crate::table::Table;
 use crate::{Error, Result};
 
@@ -99,12 +101,19 @@ pub fn build_report(
                 }
             }
         }
+        let own = dir.join("stability.json");
+        let stability = match (own.exists(), &report_options.stability) {
+            (true, _) => Some(read_brief(&own)?),
+            (false, Some(path)) => Some(read_brief(path)?),
+            (false, None) => None,
+        };
         runs.push(Run {
             name: run_name(dir),
             dir: dir.clone(),
             histories,
             analyses,
             modes,
+            stability,
         });
     }
 
@@ -122,6 +131,7 @@ pub fn build_report(
     sections::patches(&mut page, &ctx)?;
     sections::modes_chart(&mut page, &ctx)?;
     sections::identification(&mut page, &ctx)?;
+    sections::stability(&mut page, &ctx)?;
     sections::squeal(&mut page, &ctx)?;
     sections::listen(&mut page, &ctx)?;
     sections::metadata(&mut page, &ctx)?;

@@ -439,6 +439,116 @@ pub(super) fn identification(page: &mut Page, ctx: &Context) -> Result<()> {
     Ok(())
 }
 
+/// Rows of the stability table: the predicted unstable eigenvalues with the largest growth.
+const STABILITY_ROWS: usize = 12;
+
+/// The predicted unstable modes of the run's stability analysis beside the run's PSD peaks: for
+/// each unstable eigenvalue the nearest dominant peak of any direction, matched when it lies
+/// within the identification's tolerance ([`crate::identify::Tolerance`], 5 % or 25 Hz); then
+/// the peaks no unstable eigenvalue explains.
+pub(super) fn stability(page: &mut Page, ctx: &Context) -> Result<()> {
+    let Context { runs, .. } = *ctx;
+    if runs.iter().all(|r| r.stability.is_none()) {
+        return Ok(());
+    }
+    page.heading("Predicted unstable modes beside the PSD peaks");
+    let tolerance = crate::identify::Tolerance::default();
+    for r in runs {
+        let Some(st) = &r.stability else { continue };
+        let _ = writeln!(
+            page.md,
+            "### {}
+
+Stability analysis `{}` (operating point: {}; eigenvalues up to {:.0} Hz).
+",
+            r.name, st.path, st.origin, st.fmax_hz
+        );
+        // Every direction's dominant peaks: (frequency, direction, rank).
+        let peaks: Vec<(f64, String, usize)> = r
+            .analyses
+            .iter()
+            .flat_map(|a| {
+                a.identifications.iter().map(move |p| {
+                    (
+                        p.peak_frequency_hz,
+                        a.column.split('_').next().unwrap_or("").to_string(),
+                        p.rank,
+                    )
+                })
+            })
+            .collect();
+        if st.unstable.is_empty() {
+            let _ = writeln!(
+                page.md,
+                "No eigenvalue grows below {:.0} Hz: the analysis predicts no squeal at this operating point.\n",
+                st.fmax_hz
+            );
+        } else {
+            let _ = writeln!(
+                page.md,
+                "| predicted (Hz) | growth (1/s) | dominant mode (share) | nearest PSD peak | difference | within {:.0} % |\n|---|---|---|---|---|---|",
+                100.0 * tolerance.relative
+            );
+            for u in st.unstable.iter().take(STABILITY_ROWS) {
+                let nearest = peaks.iter().min_by(|a, b| {
+                    (a.0 - u.frequency_hz)
+                        .abs()
+                        .total_cmp(&(b.0 - u.frequency_hz).abs())
+                });
+                let (peak, diff, within) = match nearest {
+                    Some((f, d, rank)) => (
+                        format!("{f:.0} Hz {d} (rank {rank})"),
+                        format!("{:+.1} %", 100.0 * (f - u.frequency_hz) / u.frequency_hz),
+                        if (f - u.frequency_hz).abs() <= tolerance.window_hz(u.frequency_hz) {
+                            "yes"
+                        } else {
+                            "no"
+                        },
+                    ),
+                    None => ("-".into(), "-".into(), "-"),
+                };
+                let _ = writeln!(
+                    page.md,
+                    "| {:.1} | {:+.2} | {} ({:.0} %) | {peak} | {diff} | {within} |",
+                    u.frequency_hz,
+                    u.growth_rate_per_s,
+                    u.dominant,
+                    100.0 * u.share
+                );
+            }
+            if st.unstable.len() > STABILITY_ROWS {
+                let _ = writeln!(
+                    page.md,
+                    "\n{} more unstable eigenvalues in the file.",
+                    st.unstable.len() - STABILITY_ROWS
+                );
+            }
+            let _ = writeln!(page.md);
+        }
+        let unexplained: Vec<String> = peaks
+            .iter()
+            .filter(|(f, ..)| {
+                !st.unstable
+                    .iter()
+                    .any(|u| (f - u.frequency_hz).abs() <= tolerance.window_hz(u.frequency_hz))
+            })
+            .map(|(f, d, rank)| format!("{f:.0} Hz {d} (rank {rank})"))
+            .collect();
+        if !peaks.is_empty() {
+            let _ = writeln!(
+                page.md,
+                "PSD peaks with no predicted unstable mode within the tolerance: {}.\n",
+                if unexplained.is_empty() {
+                    "none".to_string()
+                } else {
+                    unexplained.join(", ")
+                }
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Do the zero-nodal-circle modes grow: rms of the rim against the hub, and wavelet ridges of the squeal modes' bands with their growth rates.
 ///
 /// Kept in one piece: one report section, written top to bottom as it reads.

@@ -1,0 +1,287 @@
+//! The rail's point receptance as a modal model that the state-space system can use: the
+//! undamped modes of the beam model ([`super::rail`]) up to a truncation frequency, each a
+//! unit-mass coordinate with its participation at the contact and a modal damping ratio, plus
+//! one stiff term for the static flexibility of the modes left out,
+//!
+//! ```text
+//! H(w) ~ sum_k phi_k^2 / (w_k^2 - w^2 + 2 i zeta_k w_k w) + r w_r^2 / (w_r^2 - w^2 + ...),
+//! r = H(0) - sum_k phi_k^2 / w_k^2
+//! ```
+//!
+//! (modal superposition with a residual flexibility: Craig & Kurdila, Fundamentals of
+//! Structural Dynamics, 2006, ch. 11). The modes solve `K x = w^2 M x` with x mass-normalised
+//! (`M = L L^T`, the symmetric `L^-1 K L^-T` by faer's self-adjoint eigen solver). The pads'
+//! damping is not proportional, so the modal damping matrix `D = X^T C X` is kept whole: its
+//! diagonal gives each mode's damping ratio `D_kk / (2 w_k)`, its off-diagonal terms couple the
+//! modes (the formula above shows the diagonal only; [`RailModalModel::receptance`] solves the
+//! coupled modal equations). `D` is positive semi-definite and the stiffness and mass are
+//! those of the beam, so the model is passive: it cannot make the coupled system unstable by
+//! itself. Its error against the direct frequency-response solve of the same beam model, which
+//! keeps every mode, is measured (tests/stability.rs, docs/stability.md).
+
+// Index loops mirror the matrix formulas term by term.
+#![allow(clippy::needless_range_loop)]
+
+use faer::{c64, Mat, Side};
+use serde::Serialize;
+
+use super::rail::{BeamModel, Direction, Track};
+use crate::{Error, Result};
+
+/// One modal term at the contact.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RailMode {
+    /// Natural angular frequency (rad/s).
+    pub omega_rad_per_s: f64,
+    /// Modal damping ratio.
+    pub damping_ratio: f64,
+    /// Mass-normalised displacement at the contact (m per unit coordinate, 1/sqrt(kg)).
+    pub participation: f64,
+}
+
+impl RailMode {
+    /// The term's receptance at angular frequency w.
+    pub fn receptance(&self, w: f64) -> c64 {
+        let wk = self.omega_rad_per_s;
+        c64::new(self.participation * self.participation, 0.0)
+            / c64::new(wk * wk - w * w, 2.0 * self.damping_ratio * wk * w)
+    }
+}
+
+/// The modal model of one direction.
+#[derive(Clone, Debug, Serialize)]
+pub struct RailModalModel {
+    /// Direction.
+    pub direction: Direction,
+    /// Modes below the truncation frequency, then the residual term (last).
+    pub modes: Vec<RailMode>,
+    /// Off-diagonal modal damping `(k, l, D_kl)`, k != l, both orders listed (N s/m per unit
+    /// coordinates).
+    pub damping_coupling: Vec<(usize, usize, f64)>,
+    /// Truncation frequency (Hz).
+    pub truncation_hz: f64,
+    /// Static flexibility at the contact (m/N), from a direct solve.
+    pub static_flexibility_m_per_n: f64,
+}
+
+impl RailModalModel {
+    /// Receptance at f (Hz): `phi^T (W^2 - w^2 I + i w D)^-1 phi` with the coupled damping.
+    pub fn receptance(&self, f_hz: f64) -> c64 {
+        use faer::linalg::solvers::Solve;
+        let w = std::f64::consts::TAU * f_hz;
+        let n = self.modes.len();
+        let mut a = Mat::<c64>::from_fn(n, n, |i, j| {
+            if i == j {
+                let m = &self.modes[i];
+                let wk = m.omega_rad_per_s;
+                c64::new(wk * wk - w * w, 2.0 * m.damping_ratio * wk * w)
+            } else {
+                c64::new(0.0, 0.0)
+            }
+        });
+        for &(i, j, d) in &self.damping_coupling {
+            a[(i, j)] += c64::new(0.0, w * d);
+        }
+        let phi = Mat::<c64>::from_fn(n, 1, |i, _| c64::new(self.modes[i].participation, 0.0));
+        let q = a.partial_piv_lu().solve(&phi);
+        (0..n).fold(c64::new(0.0, 0.0), |s, i| {
+            s + q[(i, 0)] * self.modes[i].participation
+        })
+    }
+}
+
+/// The modal model of `track` in `direction` at `x_contact_m`, modes up to `truncation_hz`.
+pub fn rail_modal_model(
+    track: &Track,
+    direction: Direction,
+    x_contact_m: f64,
+    truncation_hz: f64,
+) -> Result<RailModalModel> {
+    let model = track.beam_model(direction, x_contact_m)?;
+    modal_model(&model, direction, truncation_hz)
+}
+
+/// The undamped modes of `K x = w^2 M x`: the eigenvalues `w^2` and the mass-normalised modes
+/// as columns (`M = L L^T`, the symmetric `S = L^-1 K L^-T` by two triangular solves, its
+/// eigenvectors `y`, then `x = L^-T y`).
+fn mass_normalised_modes(k: &Mat<f64>, m: &Mat<f64>) -> Result<(Vec<f64>, Mat<f64>)> {
+    let llt = m.llt(Side::Lower).map_err(|e| {
+        Error::Numerical(format!(
+            "rail modes: mass matrix not positive definite: {e:?}"
+        ))
+    })?;
+    let l = llt.L().to_owned();
+    // S = L^-1 K L^-T by two triangular solves (K symmetric).
+    let mut s = k.clone();
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+        l.as_ref(),
+        s.as_mut(),
+        faer::Par::Seq,
+    );
+    let mut st = s.transpose().to_owned();
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+        l.as_ref(),
+        st.as_mut(),
+        faer::Par::Seq,
+    );
+    let evd = st
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|e| Error::Numerical(format!("rail modes: eigen solver failed: {e:?}")))?;
+    // x = L^-T y: mass-normalised modes.
+    let mut x = evd.U().to_owned();
+    faer::linalg::triangular_solve::solve_upper_triangular_in_place(
+        l.transpose(),
+        x.as_mut(),
+        faer::Par::Seq,
+    );
+    let values = evd.S().column_vector().iter().copied().collect();
+    Ok((values, x))
+}
+
+/// The modal model of an assembled beam model.
+pub fn modal_model(
+    model: &BeamModel,
+    direction: Direction,
+    truncation_hz: f64,
+) -> Result<RailModalModel> {
+    let n = model.dofs;
+    let mut k = Mat::<f64>::zeros(n, n);
+    let mut m = Mat::<f64>::zeros(n, n);
+    let mut c = Mat::<f64>::zeros(n, n);
+    for &(i, j, mv, cv, kv) in &model.entries {
+        m[(i, j)] += mv;
+        c[(i, j)] += cv;
+        k[(i, j)] += kv;
+    }
+    let (values, x) = mass_normalised_modes(&k, &m)?;
+    let w_max = std::f64::consts::TAU * truncation_hz;
+    let kept: Vec<usize> = (0..n)
+        .filter(|&q| values[q] > 0.0 && values[q] <= w_max * w_max)
+        .collect();
+    // D = X^T C X over the kept modes, C from its (sparse) entries.
+    let damped: Vec<(usize, usize, f64)> = model
+        .entries
+        .iter()
+        .filter(|e| e.3 != 0.0)
+        .map(|e| (e.0, e.1, e.3))
+        .collect();
+    let d = Mat::<f64>::from_fn(kept.len(), kept.len(), |a, b| {
+        let (qa, qb) = (kept[a], kept[b]);
+        damped
+            .iter()
+            .map(|&(i, j, cv)| x[(i, qa)] * cv * x[(j, qb)])
+            .sum()
+    });
+    let mut modes = Vec::new();
+    let mut kept_flexibility = 0.0;
+    for (a, &q) in kept.iter().enumerate() {
+        let w2 = values[q];
+        let w = w2.sqrt();
+        let phi = x[(model.contact_dof, q)];
+        kept_flexibility += phi * phi / w2;
+        modes.push(RailMode {
+            omega_rad_per_s: w,
+            damping_ratio: (d[(a, a)] / (2.0 * w)).max(0.0),
+            participation: phi,
+        });
+    }
+    let mut damping_coupling = Vec::new();
+    for a in 0..kept.len() {
+        for b in 0..kept.len() {
+            if a != b && d[(a, b)] != 0.0 {
+                damping_coupling.push((a, b, d[(a, b)]));
+            }
+        }
+    }
+    // The modes above the truncation, lumped by octave into one term each that keeps their
+    // summed residue and their static flexibility: w_b^2 = sum phi^2 / sum (phi^2 / w^2).
+    // The last bin takes everything from 4 truncations up.
+    let mut bins: Vec<[f64; 3]> = vec![[0.0; 3]; 3];
+    for q in 0..n {
+        let w2 = values[q];
+        if w2 <= w_max * w_max {
+            continue;
+        }
+        let octave = ((w2.sqrt() / w_max).log2().floor() as usize).min(2);
+        let phi = x[(model.contact_dof, q)];
+        let bin = &mut bins[octave];
+        bin[0] += phi * phi;
+        bin[1] += phi * phi / w2;
+        // Damping-ratio weight by flexibility share.
+        let mut cx = 0.0;
+        for &(i, j, cv) in &damped {
+            cx += x[(i, q)] * cv * x[(j, q)];
+        }
+        bin[2] += phi * phi / w2 * (cx / (2.0 * w2.sqrt())).max(0.0);
+        kept_flexibility += phi * phi / w2;
+    }
+    for bin in bins {
+        if bin[0] > 0.0 && bin[1] > 0.0 {
+            let wb = (bin[0] / bin[1]).sqrt();
+            modes.push(RailMode {
+                omega_rad_per_s: wb,
+                damping_ratio: bin[2] / bin[1],
+                participation: bin[0].sqrt(),
+            });
+        }
+    }
+    let static_flexibility = model.receptance(&[0.0])?[0].re;
+    let _ = kept_flexibility;
+    Ok(RailModalModel {
+        direction,
+        modes,
+        damping_coupling,
+        truncation_hz,
+        static_flexibility_m_per_n: static_flexibility,
+    })
+}
+
+/// Largest and rms relative error `|H_modal - H| / |H|` of `model` against direct solves `h` at
+/// `frequencies_hz`.
+pub fn relative_error(model: &RailModalModel, frequencies_hz: &[f64], h: &[c64]) -> (f64, f64) {
+    let mut max = 0.0f64;
+    let mut sum = 0.0;
+    for (&f, hi) in frequencies_hz.iter().zip(h) {
+        let e = (model.receptance(f) - hi).norm() / hi.norm().max(f64::MIN_POSITIVE);
+        max = max.max(e);
+        sum += e * e;
+    }
+    (max, (sum / h.len().max(1) as f64).sqrt())
+}
+
+/// The rail as one modal body at the contact: the three directions' terms, each moving the
+/// contact point along its axis (x, y or z).
+pub fn rail_body(models: &[RailModalModel]) -> super::system::ModalBody {
+    use super::system::{Body, DofTag, ModalBody, ModalDof};
+    let mut body = ModalBody::default();
+    for model in models {
+        let offset = body.dofs.len();
+        let axis = model.direction.axis();
+        for m in &model.modes {
+            let index = body.dofs.len();
+            let mut shape = [0.0; 3];
+            shape[axis] = m.participation;
+            let f = m.omega_rad_per_s / std::f64::consts::TAU;
+            body.dofs.push(ModalDof {
+                omega_rad_per_s: m.omega_rad_per_s,
+                damping_ratio: m.damping_ratio,
+                contact_shape: shape,
+                tag: DofTag {
+                    body: Body::Rail,
+                    mode: index,
+                    label: format!("rail {} {:.0} Hz", model.direction.name(), f),
+                    family: None,
+                    circles_diameters: None,
+                    frequency_hz: f,
+                },
+            });
+        }
+        body.damping_coupling.extend(
+            model
+                .damping_coupling
+                .iter()
+                .map(|&(i, j, d)| (offset + i, offset + j, d)),
+        );
+    }
+    body
+}

@@ -1,0 +1,1110 @@
+//! Squeal stability analysis (`squeal::stability`, `squeal stability`): each check against an
+//! independent reference (closed forms, a second solution method, the modal solver's own
+//! normalisation, the explicit engine's FE track and its friction; docs/stability.md). Bad
+//! input exit codes: tests/cli_stability.rs.
+
+use squeal::stability::contact::{ContactFrame, TangentialLaw};
+use squeal::stability::system::{Body, CoupledSystem, DofTag, ModalBody, ModalDof};
+
+/// A unit-mass coordinate of body `body`.
+fn dof(body: Body, mode: usize, omega: f64, zeta: f64, shape: [f64; 3]) -> ModalDof {
+    ModalDof {
+        omega_rad_per_s: omega,
+        damping_ratio: zeta,
+        contact_shape: shape,
+        tag: DofTag {
+            body,
+            mode,
+            label: format!("{body:?} {mode}"),
+            family: None,
+            circles_diameters: None,
+            frequency_hz: omega / std::f64::consts::TAU,
+        },
+    }
+}
+
+/// Hoffmann, Fischer, Begout, Gaul (2002): a mass m on a belt, held by two springs k1, k2 at
+/// angles a1, a2 to the belt, pressed on it by a normal contact spring k3, with Coulomb
+/// friction mu (belt sliding under the mass). In (x tangential, y normal) the structure's
+/// stiffness is `[[k11, k12], [k12, k22]]`, `k11 = k1 c1^2 + k2 c2^2`, `k12 = k1 s1 c1 - k2 s2
+/// c2`, `k22 = k1 s1^2 + k2 s2^2`; friction adds `mu k3` to (x, y) and the contact spring k3 to
+/// (y, y). `det(K - m w^2 I) = 0` gives `w^2 = (tr +- sqrt(D)) / 2m` with `D = (k11 - k22')^2 +
+/// 4 k12 (k12 + mu k3)`, `k22' = k22 + k3`: flutter (a complex pair, one growing) where D < 0,
+/// from `mu_c = -((k11 - k22')^2 + 4 k12^2) / (4 k3 k12)` (k12 < 0), the two modes merging at
+/// `w^2 = (k11 + k22') / 2m`.
+struct Hoffmann {
+    m: f64,
+    k11: f64,
+    k12: f64,
+    k22: f64,
+    k3: f64,
+}
+
+impl Hoffmann {
+    fn new() -> Hoffmann {
+        let (k1, k2, a1, a2) = (0.5e6_f64, 1.0e6_f64, 30f64.to_radians(), 45f64.to_radians());
+        Hoffmann {
+            m: 1.0,
+            k11: k1 * a1.cos().powi(2) + k2 * a2.cos().powi(2),
+            k12: k1 * a1.sin() * a1.cos() - k2 * a2.sin() * a2.cos(),
+            k22: k1 * a1.sin().powi(2) + k2 * a2.sin().powi(2),
+            k3: 1.0e6,
+        }
+    }
+
+    fn mu_critical(&self) -> f64 {
+        let kk = self.k22 + self.k3;
+        -((self.k11 - kk).powi(2) + 4.0 * self.k12 * self.k12) / (4.0 * self.k3 * self.k12)
+    }
+
+    fn merging_omega(&self) -> f64 {
+        ((self.k11 + self.k22 + self.k3) / (2.0 * self.m)).sqrt()
+    }
+
+    /// The growth rate above mu_c from the closed form: lambda^2 = -(tr -+ i sqrt(-D)) / 2m.
+    fn growth_rate(&self, mu: f64) -> f64 {
+        let kk = self.k22 + self.k3;
+        let d = (self.k11 - kk).powi(2) + 4.0 * self.k12 * (self.k12 + mu * self.k3);
+        assert!(d < 0.0);
+        let l2 = faer::c64::new(-(self.k11 + kk), (-d).sqrt()) / (2.0 * self.m);
+        l2.sqrt().re.abs()
+    }
+
+    /// The model through the library: the structure's two modes (unit modal mass) as the
+    /// "wheel" body in (x, z) (z the contact normal), the belt as rigid ground, the Coulomb law
+    /// of the belt sliding under the mass (slip of the mass over the belt along -x).
+    fn system(&self, mu: f64) -> CoupledSystem {
+        // Closed-form 2 x 2 symmetric eigen-decomposition of the structure (no friction, no k3).
+        let (a, b, c) = (self.k11 / self.m, self.k12 / self.m, self.k22 / self.m);
+        let mean = 0.5 * (a + c);
+        let half = (0.25 * (a - c).powi(2) + b * b).sqrt();
+        let mut wheel = ModalBody::default();
+        for (mode, l) in [mean - half, mean + half].into_iter().enumerate() {
+            // (b, l - a) is an eigenvector of [[a, b], [b, c]] for eigenvalue l.
+            let v = [b, l - a];
+            let norm = (v[0] * v[0] + v[1] * v[1]).sqrt() * self.m.sqrt();
+            wheel.dofs.push(dof(
+                Body::Wheel,
+                mode,
+                l.sqrt(),
+                0.0,
+                [v[0] / norm, 0.0, v[1] / norm],
+            ));
+        }
+        let law = TangentialLaw::coulomb(1.0e3, self.k3, 1.0, [-1.0, 0.0], mu).unwrap();
+        CoupledSystem {
+            wheel,
+            rail: ModalBody::default(),
+            contact: law.linear_contact(&ContactFrame::wheel_rail(0.0)),
+        }
+    }
+
+    fn largest_growth(&self, mu: f64) -> f64 {
+        self.system(mu)
+            .eigen()
+            .unwrap()
+            .iter()
+            .map(|e| e.growth_rate_per_s)
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+}
+
+#[test]
+fn hoffmann_flutter_onset_and_merging_frequency_match_the_closed_form() {
+    let h = Hoffmann::new();
+    let mu_c = h.mu_critical();
+    assert!(mu_c > 0.1 && mu_c < 2.0, "mu_c {mu_c}");
+    // Below mu_c the undamped system is neutrally stable: every growth rate is rounding.
+    // Threshold 1e-3 /s: the eigenvalues of the nearly defective matrix carry errors of order
+    // sqrt(eps) |lambda| = 1e-5 /s; above mu_c the growth rises as sqrt(mu - mu_c) and passes
+    // 1e-3 /s within 1e-10 of mu_c (sqrt(4 k3 |k12| dmu) / (4 w) with k3 |k12| = 2.8e11).
+    let threshold = 1e-3;
+    assert!(h.largest_growth(0.5 * mu_c).abs() < threshold);
+    let (mut lo, mut hi) = (0.5 * mu_c, 1.5 * mu_c);
+    assert!(h.largest_growth(hi) > threshold);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if h.largest_growth(mid) > threshold {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let onset = 0.5 * (lo + hi);
+    assert!(
+        (onset / mu_c - 1.0).abs() < 1e-6,
+        "onset {onset} vs closed form {mu_c}"
+    );
+    // Just above the onset both modes sit at the merging frequency.
+    let eig = h.system(mu_c * (1.0 + 1e-6)).eigen().unwrap();
+    let growing = eig.iter().find(|e| e.growth_rate_per_s > 0.0).unwrap();
+    let w = h.merging_omega();
+    assert!(
+        (growing.omega_rad_per_s / w - 1.0).abs() < 1e-3,
+        "merging {} vs {w}",
+        growing.omega_rad_per_s
+    );
+    // Above it the growth rate follows the closed form.
+    for factor in [1.1, 1.5] {
+        let mu = factor * mu_c;
+        let got = h.largest_growth(mu);
+        let want = h.growth_rate(mu);
+        assert!((got / want - 1.0).abs() < 1e-8, "mu {mu}: {got} vs {want}");
+    }
+    println!(
+        "Hoffmann: mu_c closed form {mu_c:.9}, eigenvalue onset {onset:.9}; merging {:.3} Hz",
+        w / std::f64::consts::TAU
+    );
+}
+
+#[test]
+fn falling_friction_oscillator_grows_at_minus_c_plus_n_slope_over_2m() {
+    // m x'' + c x' + k x = N mu(v_belt - x'): linearised, m x'' + (c + N mu') x' + k x = 0, whose
+    // eigenvalues have the real part -(c + N mu') / 2m exactly (underdamped).
+    let (m, k, c, n) = (2.5_f64, 4.0e6_f64, 30.0_f64, 2.0e3_f64);
+    for slope in [-0.2, -0.02, 0.0, 0.05] {
+        let omega = (k / m).sqrt();
+        let zeta = c / (2.0 * (k * m).sqrt());
+        let wheel = ModalBody {
+            dofs: vec![dof(Body::Wheel, 0, omega, zeta, [1.0 / m.sqrt(), 0.0, 0.0])],
+            gyroscopic: Vec::new(),
+            damping_coupling: Vec::new(),
+        };
+        let mut law = TangentialLaw::coulomb(n, 1.0e9, 10.0, [-1.0, 0.0], 0.4).unwrap();
+        law.friction_slope_s_per_m = slope;
+        let system = CoupledSystem {
+            wheel,
+            rail: ModalBody::default(),
+            contact: law.linear_contact(&ContactFrame::wheel_rail(0.0)),
+        };
+        let eig = system.eigen().unwrap();
+        assert_eq!(eig.len(), 1);
+        let want = -(c + n * slope) / (2.0 * m);
+        let got = eig[0].growth_rate_per_s;
+        assert!(
+            (got - want).abs() <= 1e-9 * want.abs().max(1.0),
+            "slope {slope}: {got} vs {want}"
+        );
+    }
+}
+
+fn default_wheel() -> squeal::geometry::wheel::WheelSpec {
+    squeal::input::read_json(std::path::Path::new("data/wheels/ns_intercity_920.json")).unwrap()
+}
+
+#[test]
+fn wheel_modes_are_mass_normalised_and_sampled_on_the_tread() {
+    use squeal::stability::wheel::{modal_mass, WheelDamping, WheelModes};
+    let modes = WheelModes::solve(&default_wheel(), 5000.0).unwrap();
+    println!(
+        "wheel: {} modes below 5 kHz, mass {:.1} kg, solved in {:.2} s",
+        modes.modes.len(),
+        modes.mass_kg,
+        modes.solve_seconds
+    );
+    // x^T M x = 1 for every mode, re-integrated by quadrature over the section: the 3D modes
+    // are mass-normalised (to the solver's rounding; 1e-9).
+    for m in &modes.modes {
+        let mm = modal_mass(&modes.model, m);
+        assert!(
+            (mm - 1.0).abs() < 1e-9,
+            "{} Hz: modal mass {mm}",
+            m.frequency_hz
+        );
+    }
+    let body = modes
+        .contact_body(1.2, 5000.0, &WheelDamping::default(), None)
+        .unwrap();
+    let pairs = modes.modes.iter().filter(|m| m.harmonic >= 1).count();
+    assert_eq!(body.dofs.len(), modes.modes.len() + pairs);
+    // The (0,3) mode moves the tread axially far more than radially, the (0,0) umbrella mode
+    // too; a radial mode the other way.
+    let find = |f: squeal::modal::mode::ModeFamily, m: u32, n: u32| {
+        body.dofs
+            .iter()
+            .find(|d| d.tag.family == Some(f) && d.tag.circles_diameters == Some((m, n)))
+            .unwrap()
+    };
+    use squeal::modal::mode::ModeFamily::*;
+    let a03 = find(Axial, 0, 3);
+    assert!(a03.contact_shape[1].abs() > 3.0 * a03.contact_shape[2].abs());
+    assert!((a03.tag.frequency_hz - 1011.0).abs() < 5.0);
+    let r = body
+        .dofs
+        .iter()
+        .find(|d| d.tag.family == Some(Radial) && d.tag.circles_diameters.unwrap().1 >= 2)
+        .unwrap();
+    assert!(
+        r.contact_shape[2].abs() > r.contact_shape[1].abs(),
+        "{:?}",
+        r.tag
+    );
+}
+
+#[test]
+fn timoshenko_elements_match_the_simply_supported_beam_closed_form() {
+    use squeal::stability::rail::{timoshenko_element, RailSection};
+    // Simply supported Timoshenko beam, w = W sin(k x), theta = T cos(k x), k = j pi / L:
+    // det [[kGA k^2 - rho A w^2, -kGA k], [-kGA k, EI k^2 + kGA - rho I w^2]] = 0, a quadratic
+    // in w^2 whose smaller root is the bending mode (Timoshenko 1921).
+    let r = RailSection::UIC54;
+    let g = r.material.shear_modulus_pa();
+    let (ei, kga) = (
+        r.material.youngs_modulus_pa * r.second_moment_vertical_m4,
+        r.shear_coefficient_vertical * g * r.area_m2,
+    );
+    let (rho_a, rho_i) = (
+        r.material.density_kg_per_m3 * r.area_m2,
+        r.material.density_kg_per_m3 * r.second_moment_vertical_m4,
+    );
+    let length = 0.6; // one sleeper bay: its modes span 0.3-10 kHz
+    let elements = 60; // the rail model's 10 mm elements
+    let h = length / elements as f64;
+    let n = 2 * (elements + 1);
+    let mut k = faer::Mat::<f64>::zeros(n, n);
+    let mut m = faer::Mat::<f64>::zeros(n, n);
+    for e in 0..elements {
+        let (ke, me) = timoshenko_element(ei, kga, rho_a, rho_i, h);
+        for a in 0..4 {
+            for b in 0..4 {
+                k[(2 * e + a, 2 * e + b)] += ke[a][b];
+                m[(2 * e + a, 2 * e + b)] += me[a][b];
+            }
+        }
+    }
+    // Simple supports: w = 0 at both ends (dofs 0 and n - 2).
+    let free: Vec<usize> = (0..n).filter(|&d| d != 0 && d != n - 2).collect();
+    let kf = faer::Mat::<f64>::from_fn(free.len(), free.len(), |i, j| k[(free[i], free[j])]);
+    let mf = faer::Mat::<f64>::from_fn(free.len(), free.len(), |i, j| m[(free[i], free[j])]);
+    // K x = w^2 M x through M = L L^T: L^-1 K L^-T is symmetric.
+    let l = mf.llt(faer::Side::Lower).unwrap().L().to_owned();
+    use faer::linalg::solvers::DenseSolveCore;
+    let linv = l.as_ref().partial_piv_lu().inverse();
+    let sym = &linv * &kf * linv.transpose();
+    let sym = faer::Mat::<f64>::from_fn(sym.nrows(), sym.ncols(), |i, j| {
+        0.5 * (sym[(i, j)] + sym[(j, i)])
+    });
+    let mut fe: Vec<f64> = sym
+        .self_adjoint_eigenvalues(faer::Side::Lower)
+        .unwrap()
+        .iter()
+        .map(|&l2| l2.max(0.0).sqrt() / std::f64::consts::TAU)
+        .collect();
+    fe.sort_by(f64::total_cmp);
+    for j in 1..=4 {
+        let kk = j as f64 * std::f64::consts::PI / length;
+        // a w^4 - b w^2 + c = 0.
+        let a = rho_a * rho_i;
+        let b = rho_a * (ei * kk * kk + kga) + rho_i * kga * kk * kk;
+        let c = kga * kk * kk * ei * kk * kk;
+        let w2 = (b - (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
+        let exact = w2.sqrt() / std::f64::consts::TAU;
+        // The FE spectrum also holds the shear branch (from sqrt(kGA / rho I) = 5.6 kHz, the
+        // uniform rotation with w = 0): compare with the nearest FE frequency.
+        let got = *fe
+            .iter()
+            .min_by(|a, b| (*a - exact).abs().total_cmp(&(*b - exact).abs()))
+            .unwrap();
+        println!("simply supported bay, mode {j}: FE {got:.1} Hz, closed form {exact:.1} Hz");
+        // Linear elements converge as h^2: (k h)^2 / 12 with k h = j pi / 60 is 0.02 % (j = 1)
+        // to 0.4 % (j = 4) for the Euler part; 0.5 % bounds it.
+        assert!(
+            (got / exact - 1.0).abs() < 5e-3,
+            "mode {j}: {got} vs {exact}"
+        );
+    }
+}
+
+fn case3_track() -> (
+    squeal::model::case::LoadedCase,
+    squeal::stability::rail::Track,
+) {
+    let loaded =
+        squeal::model::case::load_case(std::path::Path::new("data/scenarios/case3-demo.json"))
+            .unwrap();
+    let track = squeal::stability::rail::Track::from_case(&loaded).unwrap();
+    (loaded, track)
+}
+
+#[test]
+fn rail_modal_model_matches_the_direct_frequency_response_below_5_khz() {
+    use squeal::stability::rail::Direction;
+    use squeal::stability::rail_modes::{rail_modal_model, relative_error};
+    let (_, track) = case3_track();
+    let x = 2.0; // the demo wheel's start, 0.1 m before a sleeper
+                 // 500 frequencies 50-5000 Hz, none of them a sample the model was built from (it is built
+                 // from the beam's modes and one static solve).
+    let check_f: Vec<f64> = (0..500).map(|i| 50.0 + 9.9 * i as f64).collect();
+    for d in Direction::ALL {
+        let t0 = std::time::Instant::now();
+        // Modes to 1.5 fmax explicitly, the rest lumped by octave (the stability default).
+        let model = rail_modal_model(&track, d, x, 7_500.0).unwrap();
+        let t_modal = t0.elapsed().as_secs_f64();
+        let h = track.receptance(d, x, &check_f).unwrap();
+        let (max, rms) = relative_error(&model, &check_f, &h);
+        let (worst_f, worst_db) = check_f
+            .iter()
+            .zip(&h)
+            .map(|(&f, hi)| (f, 20.0 * (model.receptance(f).norm() / hi.norm()).log10()))
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+            .unwrap();
+        println!(
+            "rail {}: {} terms; 50-5000 Hz: |dH|/|H| max {:.2} % rms {:.2} %, largest level error {:+.2} dB at {:.0} Hz (modal model {:.2} s)",
+            d.name(),
+            model.modes.len(),
+            100.0 * max,
+            100.0 * rms,
+            worst_db,
+            worst_f,
+            t_modal
+        );
+        // rms 3 %: the truncated modes' dynamic part (lumped by octave) and the damping coupling
+        // between kept and lumped modes; the largest errors sit at antiresonances, where |H| is
+        // smallest, and stay below 1.5 dB.
+        assert!(rms < 0.03, "{}: rms {rms}", d.name());
+        assert!(worst_db.abs() < 1.5, "{}: {worst_db} dB", d.name());
+    }
+}
+
+#[test]
+fn case3_operating_point_from_the_case_file() {
+    use squeal::stability::model::{Settings, StabilityModel};
+    use squeal::stability::operating::from_case;
+    let (loaded, _) = case3_track();
+    let t0 = std::time::Instant::now();
+    let model = StabilityModel::build(&loaded, Settings::default()).unwrap();
+    let t_build = t0.elapsed().as_secs_f64();
+    let op = from_case(
+        &loaded,
+        model.wheel.mass_kg,
+        model.wheel.nominal_radius_m,
+        None,
+        model.material,
+    )
+    .unwrap();
+    println!("{op:#?}");
+    let (rail, _) = model.rail(op.wheel_x_m).unwrap();
+    let wheel = model.wheel_body(&op).unwrap();
+    let a = model.analyse(&op, &wheel, &rail).unwrap();
+    println!(
+        "build {t_build:.2} s; point {:.3} s with {} coordinates; law {:#?}",
+        a.seconds, a.coordinates, a.law
+    );
+    for e in a.eigen.iter().filter(|e| e.growth_rate_per_s > -5.0) {
+        println!(
+            "{:8.1} Hz  sigma {:+9.3} /s  {}",
+            e.frequency_hz,
+            e.growth_rate_per_s,
+            e.participation
+                .iter()
+                .take(3)
+                .map(|p| format!("{} {:.2}", p.tag.label, p.share))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+}
+
+/// The case-3 wheel, contact and rail at the case file's operating point, undamped and
+/// frictionless or as given.
+fn case3_system(
+    mu: Option<f64>,
+    undamped: bool,
+    fmax_hz: f64,
+) -> (
+    squeal::stability::model::StabilityModel,
+    squeal::stability::operating::OperatingPoint,
+    ModalBody,
+    ModalBody,
+) {
+    use squeal::stability::model::{Settings, StabilityModel};
+    use squeal::stability::operating::from_case;
+    let (loaded, _) = case3_track();
+    let settings = Settings {
+        fmax_hz,
+        ..Settings::default()
+    };
+    let model = StabilityModel::build(&loaded, settings).unwrap();
+    let mut op = from_case(
+        &loaded,
+        model.wheel.mass_kg,
+        model.wheel.nominal_radius_m,
+        None,
+        model.material,
+    )
+    .unwrap();
+    if let Some(mu) = mu {
+        op.mu = mu;
+    }
+    let (mut rail, _) = model.rail(op.wheel_x_m).unwrap();
+    let mut wheel = model.wheel_body(&op).unwrap();
+    if undamped {
+        for d in wheel.dofs.iter_mut().chain(rail.dofs.iter_mut()) {
+            d.damping_ratio = 0.0;
+        }
+        rail.damping_coupling.clear();
+    }
+    (model, op, wheel, rail)
+}
+
+#[test]
+fn frictionless_undamped_system_has_the_frequencies_of_the_receptance_coupling() {
+    use squeal::stability::contact::linearise;
+    use squeal::stability::system::dot3;
+    // Second method: with mu = 0 only the Hertz spring k along the contact normal n joins the
+    // bodies, and the undamped natural frequencies are the roots of
+    //   g(w) = 1/k + sum_j (phi_j . n)^2 / (w_j^2 - w^2)   (wheel and rail coordinates),
+    // which rises from -inf to +inf between consecutive poles (one root each) and from -inf to
+    // 1/k above the last; coordinates with phi_j . n = 0 keep their own frequency.
+    let (model, op, wheel, rail) = case3_system(Some(0.0), true, 5000.0);
+    let law = linearise(&op.contact_state(model.material), model.settings.tangential).unwrap();
+    let frame = squeal::stability::contact::ContactFrame::wheel_rail(op.contact_angle_deg);
+    let contact = law.linear_contact(&frame);
+    let n = frame.axes[2];
+    let k = law.normal_stiffness_n_per_m;
+    // Poles with their summed weights (equal frequencies merged).
+    let mut poles: Vec<(f64, f64)> = Vec::new();
+    let mut uncoupled: Vec<f64> = Vec::new();
+    for d in wheel.dofs.iter().chain(rail.dofs.iter()) {
+        let a = dot3(&d.contact_shape, &n).powi(2);
+        let w = d.omega_rad_per_s;
+        if a == 0.0 {
+            uncoupled.push(w);
+        } else if let Some(p) = poles.iter_mut().find(|p| (p.0 / w - 1.0).abs() < 1e-14) {
+            p.1 += a;
+        } else {
+            poles.push((w, a));
+        }
+    }
+    poles.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let g = |w: f64| {
+        1.0 / k
+            + poles
+                .iter()
+                .map(|&(wj, a)| a / (wj * wj - w * w))
+                .sum::<f64>()
+    };
+    let bisect = |mut lo: f64, mut hi: f64| {
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if g(mid) < 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+            if hi - lo <= 1e-15 * hi {
+                break;
+            }
+        }
+        0.5 * (lo + hi)
+    };
+    let mut roots: Vec<f64> = poles
+        .windows(2)
+        .map(|p| bisect(p[0].0 * (1.0 + 1e-15), p[1].0 * (1.0 - 1e-15)))
+        .collect();
+    let last = poles.last().unwrap().0;
+    let mut hi = 2.0 * last;
+    while g(hi) < 0.0 {
+        hi *= 2.0;
+    }
+    roots.push(bisect(last * (1.0 + 1e-15), hi));
+    roots.extend(uncoupled.iter().copied());
+    roots.sort_by(f64::total_cmp);
+    let system = CoupledSystem {
+        wheel,
+        rail,
+        contact,
+    };
+    let mut eig: Vec<(f64, f64)> = system
+        .eigenvalues()
+        .unwrap()
+        .iter()
+        .filter(|l| l.im > 0.0)
+        .map(|l| (l.re, l.im))
+        .collect();
+    eig.sort_by(|a, b| a.1.total_cmp(&b.1));
+    assert_eq!(eig.len(), system.len(), "one conjugate pair per coordinate");
+    assert_eq!(roots.len(), eig.len());
+    let mut worst: f64 = 0.0;
+    let mut worst_re: f64 = 0.0;
+    for (r, (re, im)) in roots.iter().zip(&eig) {
+        worst = worst.max((im / r - 1.0).abs());
+        worst_re = worst_re.max((re / im).abs());
+    }
+    println!(
+        "mu = 0, undamped: {} eigenvalues; largest |Im/root - 1| {worst:.2e}, largest |Re/Im| {worst_re:.2e}",
+        eig.len()
+    );
+    // The scaled state matrix keeps the QR's error near eps |A| / |lambda| (measured 1e-14);
+    // 1e-10 leaves room for other matrices and still fails on the unscaled form (7e-6).
+    assert!(worst < 1e-10, "frequencies differ by {worst:e}");
+    assert!(
+        worst_re < 1e-10,
+        "real parts up to {worst_re:e} of the imaginary"
+    );
+}
+
+#[test]
+fn unstable_eigenvalue_converges_as_the_wheel_modes_grow() {
+    // The saturated case-3 point (eta 1 %: mode coupling makes (0,2) grow) with wheel modes up
+    // to fmax = 1.5 ... 10 kHz; rail and contact fixed. The growing eigenvalue must settle.
+    let (model, mut op, _, rail) = case3_system(None, false, 10_000.0);
+    op.creepages.eta = 0.01;
+    let fmaxes = [1500.0, 2000.0, 3000.0, 4000.0, 5000.0, 7000.0, 10_000.0];
+    let mut found = Vec::new();
+    for &f in &fmaxes {
+        let wheel = model
+            .wheel
+            .contact_body(op.contact_s_mm, f, &model.settings.wheel_damping, None)
+            .unwrap();
+        let a = model.analyse(&op, &wheel, &rail).unwrap();
+        let e = a.unstable()[0].clone();
+        println!(
+            "fmax {f:6.0} Hz: {:3} wheel coordinates; most unstable {:.3} Hz, growth {:.4} /s ({})",
+            wheel.dofs.len(),
+            e.frequency_hz,
+            e.growth_rate_per_s,
+            e.dominant().label
+        );
+        found.push(e);
+    }
+    let last = found.last().unwrap().clone();
+    let mut previous = f64::INFINITY;
+    for (f, e) in fmaxes.iter().zip(&found).take(fmaxes.len() - 1) {
+        assert_eq!(e.dominant().label, last.dominant().label);
+        let dg = (e.growth_rate_per_s - last.growth_rate_per_s).abs() / last.growth_rate_per_s;
+        let df = (e.frequency_hz - last.frequency_hz).abs() / last.frequency_hz;
+        println!("  fmax {f:6.0} Hz: growth differs from the 10 kHz value by {:.2e}, frequency by {:.2e}", dg, df);
+        // Monotone convergence (allowing rounding-level plateaus once converged).
+        assert!(
+            dg <= previous * 1.01 + 1e-6,
+            "growth difference rose at {f} Hz"
+        );
+        previous = dg;
+    }
+    // The rate: least-squares slope of ln(difference) against ln(fmax) up to 5 kHz (above it
+    // the 10 kHz reference's own truncation error is of the same size as the difference).
+    let pts: Vec<(f64, f64)> = fmaxes
+        .iter()
+        .zip(&found)
+        .take(5)
+        .map(|(f, e)| {
+            let dg = (e.growth_rate_per_s / last.growth_rate_per_s - 1.0).abs();
+            (f.ln(), dg.ln())
+        })
+        .collect();
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / pts.len() as f64,
+        pts.iter().map(|p| p.1).sum::<f64>() / pts.len() as f64,
+    );
+    let slope = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>()
+        / pts.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
+    println!("growth-rate truncation error ~ fmax^{slope:.2} (1.5-5 kHz against 10 kHz)");
+    // The default fmax (5 kHz) must give the growth within 2 % of the converged value: well
+    // inside the spread of the explicit runs' measured growth rates it is compared with
+    // (docs/operating-point.md), so truncation cannot decide that comparison (measured 0.50 %).
+    let at5 = &found[4];
+    assert!(
+        (at5.growth_rate_per_s / last.growth_rate_per_s - 1.0).abs() < 0.02,
+        "5 kHz differs from 10 kHz by more than 2 %"
+    );
+}
+
+/// A short track of the case-3 demo's supports for the fast check: 1.8 m of rail over three
+/// sleepers (0.3, 0.9, 1.5 m), meshed uniformly (20 mm along the rail, 10 / 20 mm in the
+/// section) so that the explicit model stays small.
+fn short_track_layout() -> squeal::mesh::track::TrackLayout {
+    let (loaded, _) = case3_track();
+    let mut layout = loaded.scenario.track_layout();
+    layout.length_m = 1.8;
+    layout.first_sleeper_x_m = 0.3;
+    layout.solution_zone_start_m = 0.0;
+    layout.solution_zone_length_m = 1.8;
+    layout.zone_element_length_m = 0.02;
+    layout.far_element_length_m = 0.02;
+    layout.running_zone = None;
+    layout.running_surface_element_mm = 10.0;
+    layout.section_element_mm = 20.0;
+    layout
+}
+
+/// Print the comparison (every 500 Hz when `verbose`) and return (rms relative difference,
+/// largest |level difference| in dB) over `band_hz`.
+fn summarise(
+    c: &squeal::stability::rail_fe::RailComparison,
+    band_hz: (f64, f64),
+    verbose: bool,
+) -> (f64, f64) {
+    let rel = c.relative_difference();
+    let db = c.level_difference_db();
+    let mut sum = 0.0;
+    let mut count = 0;
+    let mut worst_db: f64 = 0.0;
+    for (i, &f) in c.frequencies_hz.iter().enumerate() {
+        if f >= band_hz.0 && f <= band_hz.1 {
+            sum += rel[i] * rel[i];
+            count += 1;
+            worst_db = if db[i].abs() > worst_db.abs() {
+                db[i]
+            } else {
+                worst_db
+            };
+        }
+        if verbose && i % 10 == 0 {
+            println!(
+                "  {:?} {f:6.0} Hz: FE {:.3e} m/N, beam {:.3e} m/N, |dH|/|H| {:.3}, {:+.2} dB",
+                c.direction,
+                c.fe_m_per_n[i].norm(),
+                c.beam_m_per_n[i].norm(),
+                rel[i],
+                db[i]
+            );
+        }
+    }
+    let rms = (sum / count as f64).sqrt();
+    println!(
+        "{:?} at x = {:.3} m: {} elements, {} section nodes, {} steps of {:.3e} s in {:.1} s, window sigma {:.0} /s; {:.0}-{:.0} Hz: rms |dH|/|H| {:.3}, largest level difference {:+.2} dB",
+        c.direction, c.x_m, c.elements, c.section_nodes, c.steps, c.time_step_s, c.seconds,
+        c.window_decay_per_s, band_hz.0, band_hz.1, rms, worst_db
+    );
+    (rms, worst_db)
+}
+
+#[test]
+fn rail_beam_model_matches_the_fe_track_impulse_response_below_5_khz() {
+    use squeal::stability::rail::Direction;
+    use squeal::stability::rail_fe::{compare, ImpulseSettings};
+    let (loaded, _) = case3_track();
+    let layout = short_track_layout();
+    let freqs: Vec<f64> = (1..=100).map(|i| 50.0 * i as f64).collect();
+    let c = compare(
+        &layout,
+        &loaded.case,
+        loaded.scenario.wheel.material,
+        0.6,
+        Direction::Vertical,
+        // 15 ms instead of the default 20 (a quarter less time; sigma 533 /s instead of 400).
+        &ImpulseSettings {
+            duration_s: 0.015,
+            ..ImpulseSettings::default()
+        },
+        &freqs,
+    )
+    .unwrap();
+    let (rms, worst_db) = summarise(&c, (100.0, 5000.0), true);
+    // Measured: rms 0.24, largest level difference 3.2 dB (0.27 and 3.6 dB with the 20 ms
+    // record of the ignored test, whose finer mesh gives 0.28 and 3.7 dB): the FE side is
+    // converged and the difference is the beam's: a
+    // rigid sleeper mass where the FE sleeper is an elastic block, the pads acting on the
+    // beam's axis where the FE pads pull on the rail foot, no cross-section deformation. The
+    // bounds catch a model error of the size this comparison found (free instead of held rail
+    // end rotations: rms 0.83, 10 dB) and leave the stated physics.
+    assert!(rms < 0.4, "rms relative difference {rms}");
+    assert!(worst_db.abs() < 5.0, "level difference {worst_db} dB");
+}
+
+/// The beam model against FE tracks in all three directions: the short track of the fast test
+/// meshed finer (10 mm along the rail, 6 / 12 mm in the section: the FE side's mesh
+/// convergence), and the case-3 demo's own track as the explicit runs mesh it (6 m, graded from
+/// 6 mm at the contact to 120 mm) at the demo's contact (x = 2.0 m). About 15 minutes on the
+/// 2-core machine: `cargo test --release --test stability -- --ignored --exact
+/// rail_beam_model_against_fe_tracks_in_three_directions --nocapture`.
+#[test]
+#[ignore]
+fn rail_beam_model_against_fe_tracks_in_three_directions() {
+    use squeal::stability::rail::Direction;
+    use squeal::stability::rail_fe::{compare, ImpulseSettings};
+    let (loaded, _) = case3_track();
+    let freqs: Vec<f64> = (1..=100).map(|i| 50.0 * i as f64).collect();
+    let mut fine = short_track_layout();
+    fine.zone_element_length_m = 0.01;
+    fine.far_element_length_m = 0.01;
+    fine.running_surface_element_mm = 6.0;
+    fine.section_element_mm = 12.0;
+    let demo = loaded.scenario.track_layout();
+    let demo_x = loaded.scenario.scenario.wheel_position.x_m;
+    for (name, layout, x) in [
+        ("short track, coarse", short_track_layout(), 0.6),
+        ("short track, fine", fine, 0.6),
+        ("case-3 demo track", demo, demo_x),
+    ] {
+        for d in [
+            Direction::Vertical,
+            Direction::Lateral,
+            Direction::Longitudinal,
+        ] {
+            print!("{name}: ");
+            let c = compare(
+                &layout,
+                &loaded.case,
+                loaded.scenario.wheel.material,
+                x,
+                d,
+                &ImpulseSettings::default(),
+                &freqs,
+            )
+            .unwrap();
+            let (rms, worst) = summarise(&c, (100.0, 5000.0), false);
+            assert!(rms.is_finite() && worst.is_finite());
+        }
+    }
+}
+
+/// The explicit engine against the eigenvalue on a small model: a 0.4 kg slider (a point mass,
+/// one contact node) pressed with 500 N on a belt (a steel plate moving at `v_b`) with the
+/// case's falling friction, held along the belt by a spring to the ground. The engine's own
+/// contact (penalty, falling friction evaluated per node and step from the slip of the step)
+/// integrates it; the stability analysis (the slider's mode on its spring as a one-coordinate
+/// body, the Coulomb law with the friction slope at `v_b`) predicts the growth
+/// `-(c + N dmu/dv) / 2m` and the frequency. A point has no rocking, so the friction cannot
+/// couple the sliding to a tilt (the sprag mode a block on a belt adds), and its bounce on the
+/// penalty spring does not feed back into the sliding: the two models then have the same
+/// physics, and the check is of the engine's friction against the linearisation. The slider
+/// starts at its sliding equilibrium `k x = mu(v_b) N` with a velocity of 1 % of `v_b`, the
+/// small disturbance that grows. The growth is the
+/// least-squares slope of the log of the velocity peaks while they stay below 30 % of `v_b`
+/// (the slip speed stays near `v_b`: the linear range).
+#[test]
+fn explicit_slider_on_a_falling_friction_belt_grows_at_the_predicted_rate() {
+    use squeal::contact::{ContactPair, FrictionLaw};
+    use squeal::explicit::model::{Model, MotionKind, Spring};
+    use squeal::explicit::{Curve, Formulation, Solver};
+    use squeal::material::Material;
+    use squeal::mesh::cuboid;
+    use squeal::stability::operating::friction_at;
+    let steel = Material::STEEL;
+    let law = FrictionLaw::Falling {
+        mu_static: 0.5,
+        mu_dynamic: 0.32,
+        decay_s_per_m: 6.0,
+    };
+    // About 100 /s of growth at 300 Hz: a dozen cycles in the linear range.
+    let (belt_m_per_s, load_n, mass_kg, spring_frequency_hz) = (0.2, 250.0, 0.4, 300.0);
+    let plate = cuboid([30, 10, 1], [0.6, 0.2, 0.02], 1);
+    let top: std::collections::HashSet<usize> = plate.node_sets["z1"].iter().copied().collect();
+    let materials = [(1, steel)].into_iter().collect();
+    let mut model = Model::from_mesh(plate, &materials, Formulation::default(), "test").unwrap();
+    model
+        .mesh
+        .node_sets
+        .insert("plate".into(), (0..model.mesh.nodes.len()).collect());
+    // The slider over the middle of a face, on the plate's top (z = 0.02 m).
+    let slider = model
+        .add_point_mass("slider", [0.11, 0.11, 0.02], mass_kg)
+        .unwrap();
+    let faces: Vec<[usize; 4]> = model
+        .mesh
+        .boundary_faces()
+        .into_iter()
+        .map(|(f, _)| f)
+        .filter(|f| f.iter().all(|n| top.contains(n)))
+        .collect();
+    let mut pair = ContactPair::new(
+        "slider_on_belt",
+        &model.mesh,
+        vec![slider],
+        faces,
+        0.1,
+        steel.bulk_modulus_pa(),
+        law,
+    )
+    .unwrap();
+    let k_n_per_m = mass_kg * (std::f64::consts::TAU * spring_frequency_hz).powi(2);
+    model
+        .add_spring(Spring {
+            name: "hold".into(),
+            node_a: slider,
+            node_b: None,
+            stiffness_n_per_m: [k_n_per_m, 0.0, 0.0],
+            damping_n_s_per_m: [0.0; 3],
+        })
+        .unwrap();
+    model
+        .add_load("slider", [0.0, 0.0, -load_n], Curve::constant(1.0))
+        .unwrap();
+    // The belt: still during the preload (held at t = 0), at v_b from then on.
+    model.fix_set("plate", [false, true, true]).unwrap();
+    model
+        .prescribe(
+            "plate",
+            0,
+            MotionKind::Velocity,
+            Curve::new(
+                vec![0.0, 1e-9, 1.0],
+                vec![0.0, belt_m_per_s, belt_m_per_s],
+                "belt",
+            )
+            .unwrap(),
+        )
+        .unwrap();
+    let bound = pair.time_step_bound_s(&model.nodal_mass_kg);
+    model.register_time_step_bound("contact", bound);
+    let mut solver = Solver::new(model, None).unwrap();
+    // Press the slider on without friction, then put it at its sliding equilibrium and let
+    // the belt run.
+    let saved = pair.suspend_friction();
+    // Settle with mass damping at 2000 /s (the bounce on the penalty spring, about 4.7 kHz,
+    // then decays as exp(-1000 t): 1e-13 after 30 ms), the time held at 0 so that the belt
+    // stays still (as the engine's own preload does).
+    solver.model.mass_damping_per_s = 2000.0;
+    let settle_steps = (0.03 / solver.dt_s).ceil() as usize;
+    for _ in 0..settle_steps {
+        solver.step_with(&mut pair, false, false).unwrap();
+        solver.time_s = 0.0;
+    }
+    solver.model.mass_damping_per_s = 0.0;
+    solver.v[slider] = [0.0; 3];
+    let normal_n = pair.resultants().0[2];
+    let (mu, slope) = friction_at(&law, belt_m_per_s);
+    solver.u[slider][0] += mu * normal_n / k_n_per_m;
+    // The disturbance that grows: 1 % of the belt speed.
+    solver.v[slider][0] = 0.01 * belt_m_per_s;
+    pair.resume_friction(saved);
+    // The prediction.
+    let omega = std::f64::consts::TAU * spring_frequency_hz;
+    let wheel = ModalBody {
+        dofs: vec![dof(
+            Body::Wheel,
+            0,
+            omega,
+            0.0,
+            [1.0 / mass_kg.sqrt(), 0.0, 0.0],
+        )],
+        gyroscopic: Vec::new(),
+        damping_coupling: Vec::new(),
+    };
+    let mut contact =
+        TangentialLaw::coulomb(normal_n, 1.0e9, belt_m_per_s, [-1.0, 0.0], mu).unwrap();
+    contact.friction_slope_s_per_m = slope;
+    let predicted = CoupledSystem {
+        wheel,
+        rail: ModalBody::default(),
+        contact: contact.linear_contact(&ContactFrame::wheel_rail(0.0)),
+    }
+    .eigen()
+    .unwrap()[0]
+        .clone();
+    // The explicit run: the slider's velocity along the belt, every step.
+    let duration_s = 0.04;
+    let t0 = solver.time_s;
+    let mut history: Vec<(f64, f64)> = Vec::new();
+    while solver.time_s - t0 < duration_s {
+        solver.step_with(&mut pair, false, false).unwrap();
+        history.push((solver.time_s - t0, solver.v[slider][0]));
+    }
+    // Positive peaks of the velocity in the linear range.
+    let peaks: Vec<(f64, f64)> = history
+        .windows(3)
+        .filter(|w| w[1].1 > w[0].1 && w[1].1 >= w[2].1 && w[1].1 > 0.0)
+        .map(|w| w[1])
+        .filter(|&(_, v)| v < 0.3 * belt_m_per_s)
+        .collect();
+    assert!(peaks.len() >= 5, "{} peaks", peaks.len());
+    let n = peaks.len() as f64;
+    let (mt, ml) = (
+        peaks.iter().map(|p| p.0).sum::<f64>() / n,
+        peaks.iter().map(|p| p.1.ln()).sum::<f64>() / n,
+    );
+    let growth = peaks
+        .iter()
+        .map(|p| (p.0 - mt) * (p.1.ln() - ml))
+        .sum::<f64>()
+        / peaks.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
+    let frequency_hz = (n - 1.0) / (peaks[peaks.len() - 1].0 - peaks[0].0);
+    println!(
+        "slider {mass_kg} kg on {k_n_per_m:.4e} N/m, N {normal_n:.1} N, mu {mu:.4}, dmu/dv {slope:.4} s/m, step {:.3e} s",
+        solver.dt_s
+    );
+    println!(
+        "eigenvalue: {:.2} Hz, growth {:+.2} /s; explicit: {frequency_hz:.2} Hz, growth {growth:+.2} /s over {} peaks ({:.2e} to {:.2e} m/s)",
+        predicted.frequency_hz,
+        predicted.growth_rate_per_s,
+        peaks.len(),
+        peaks[0].1,
+        peaks[peaks.len() - 1].1
+    );
+    // The growth within 3 %: over a velocity amplitude A the falling law's exponential gives the
+    // cycle-averaged slope mu'(v_b) 2 I_1(c A) / (c A) = mu'(v_b) (1 + (c A)^2 / 8 + ...), 1.6 %
+    // more at the largest peak fitted (A = 0.3 v_b, c = 6 s/m); the engine's step error,
+    // (w dt)^2 / 24 = 1e-6, is far below. The frequency within 0.5 % (the fit of peak times
+    // to whole periods of the 3 us steps: 1e-3 of a period).
+    assert!(
+        (growth / predicted.growth_rate_per_s - 1.0).abs() < 0.03,
+        "growth {growth} vs {}",
+        predicted.growth_rate_per_s
+    );
+    assert!(
+        (frequency_hz / predicted.frequency_hz - 1.0).abs() < 0.005,
+        "frequency {frequency_hz} vs {}",
+        predicted.frequency_hz
+    );
+}
+
+/// The demo80 runs (`squeal simulate --scenario data/scenarios/caseN-demo80.json --out
+/// DIR/caseN-demo80`, 80 ms on the demo80 meshes, 11-17 minutes each): read from the directory
+/// `SQUEAL_DEMO80_RUNS` names, else run here into a temporary directory.
+fn demo80_run(case: &str) -> std::path::PathBuf {
+    use squeal::rolling::{simulate, SimulateOptions, StopFlag};
+    let name = format!("{case}-demo80");
+    if let Some(dir) = std::env::var_os("SQUEAL_DEMO80_RUNS") {
+        return std::path::PathBuf::from(dir).join(name);
+    }
+    let dir = std::env::temp_dir()
+        .join(format!("squeal_demo80_{}", std::process::id()))
+        .join(&name);
+    let loaded = squeal::model::case::load_case(std::path::Path::new(&format!(
+        "data/scenarios/{name}.json"
+    )))
+    .unwrap();
+    let record = simulate(
+        &loaded,
+        &SimulateOptions {
+            out_dir: dir.clone(),
+            resume: false,
+            overwrite: false,
+            progress: false,
+            end_time_s: None,
+            stop: StopFlag::new(),
+        },
+    )
+    .unwrap();
+    assert_eq!(record.run.status, "completed", "{name}");
+    dir
+}
+
+/// Least-squares slope of `ln ridge` against time over [from_s, to_s] (the ridge's own
+/// samples, NaN outside the cone of influence left out).
+fn ridge_growth(g: &squeal::growth::GrowthAnalysis, band: usize, from_s: f64, to_s: f64) -> f64 {
+    let pts: Vec<(f64, f64)> = g
+        .time_s
+        .iter()
+        .zip(&g.bands[band].ridge)
+        .filter(|(t, r)| **t >= from_s && **t <= to_s && r.is_finite() && **r > 0.0)
+        .map(|(t, r)| (*t, r.ln()))
+        .collect();
+    let n = pts.len() as f64;
+    let (mt, ml) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    pts.iter().map(|p| (p.0 - mt) * (p.1 - ml)).sum::<f64>()
+        / pts.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>()
+}
+
+/// The stability analysis against the explicit engine on the demo cases: at the saturated
+/// case-file operating point (eta 0.43 %, Kalker's lateral creepage at the first saturation of
+/// case 3, docs/operating-point.md; Kalker's exact law), the unstable eigenvalues and, in the
+/// band +-5 % of each, the growth of the n >= 1 rim vibration of the 80 ms demo run (wavelet
+/// ridge, `squeal growth`'s method) after the lateral motion has stopped (32-80 ms): case 5
+/// (falling friction), where the explicit run's n >= 1 vibration keeps growing, and case 3
+/// (Coulomb), where it does not. Prints the comparison; asserts that the analysis predicts
+/// unstable modes exactly in the case whose explicit n >= 1 vibration grows (the growth rates
+/// are compared in docs/stability.md). Run: `SQUEAL_DEMO80_RUNS=DIR cargo test --release
+/// --test stability -- --ignored --exact stability_against_the_explicit_demo80_runs
+/// --nocapture` (without the variable the two runs are made first, about 30 minutes).
+#[test]
+#[ignore]
+fn stability_against_the_explicit_demo80_runs() {
+    use squeal::growth::{band_growth, read_column, Band};
+    use squeal::stability::model::{Settings, StabilityModel};
+    use squeal::stability::operating::from_case;
+    let eta = 0.0043;
+    let (from_s, to_s) = (0.032, 0.080);
+    let mut agreement = Vec::new();
+    for case in ["case5", "case3"] {
+        let loaded = squeal::model::case::load_case(std::path::Path::new(&format!(
+            "data/scenarios/{case}-demo80.json"
+        )))
+        .unwrap();
+        let model = StabilityModel::build(&loaded, Settings::default()).unwrap();
+        let op = from_case(
+            &loaded,
+            model.wheel.mass_kg,
+            model.wheel.nominal_radius_m,
+            Some(eta),
+            model.material,
+        )
+        .unwrap();
+        let (rail, _) = model.rail(op.wheel_x_m).unwrap();
+        let wheel = model.wheel_body(&op).unwrap();
+        let a = model.analyse(&op, &wheel, &rail).unwrap();
+        let unstable = a.unstable();
+        println!(
+            "{case}: case-file point, eta {:.2} %, creep/bound {:.3}, mu {:.3}, dmu/dv {:.3} s/m: {} unstable eigenvalues",
+            100.0 * eta,
+            a.law.creep_over_bound(),
+            op.mu,
+            op.friction_slope_s_per_m,
+            unstable.len()
+        );
+        let run = demo80_run(case);
+        let series = read_column(&run, "rim_point_minus_mean_lateral_velocity_m_per_s").unwrap();
+        // The explicit run's n >= 1 rms over the first and last 8 ms of the window.
+        let rms = |a: f64, b: f64| {
+            let dt = 1.0 / series.sample_rate_hz;
+            let v: Vec<f64> = series
+                .values
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| {
+                    let t = series.start_time_s + *k as f64 * dt;
+                    t >= a && t < b
+                })
+                .map(|(_, v)| v * v)
+                .collect();
+            (v.iter().sum::<f64>() / v.len() as f64).sqrt()
+        };
+        let (r0, r1) = (rms(from_s, from_s + 0.008), rms(to_s - 0.008, to_s));
+        agreement.push((case, !unstable.is_empty(), r1 > r0));
+        println!(
+            "  explicit n >= 1 rms {r0:.3} m/s ({:.0}-{:.0} ms) -> {r1:.3} m/s ({:.0}-{:.0} ms): {:+.1} /s",
+            from_s * 1e3,
+            from_s * 1e3 + 8.0,
+            to_s * 1e3 - 8.0,
+            to_s * 1e3,
+            (r1 / r0).ln() / (to_s - from_s - 0.008)
+        );
+        if unstable.is_empty() {
+            continue;
+        }
+        let bands: Vec<Band> = unstable
+            .iter()
+            .map(|e| Band {
+                name: e.dominant().label.clone(),
+                low_hz: 0.95 * e.frequency_hz,
+                high_hz: 1.05 * e.frequency_hz,
+            })
+            .collect();
+        let g = band_growth(&series, &bands, 0.016, 0.008).unwrap();
+        println!("  per band +-5 %: predicted eigenvalue | explicit ridge growth over 32-80 ms, mean ridge");
+        for (k, e) in unstable.iter().enumerate() {
+            let ridge: Vec<f64> = g.bands[k]
+                .ridge
+                .iter()
+                .zip(&g.time_s)
+                .filter(|(r, t)| r.is_finite() && **t >= from_s && **t <= to_s)
+                .map(|(r, _)| *r)
+                .collect();
+            println!(
+                "  {:7.1} Hz: predicted {:+8.2} /s  {:34} | explicit {:+7.1} /s, ridge {:.4} m/s",
+                e.frequency_hz,
+                e.growth_rate_per_s,
+                format!(
+                    "{} ({:.0} %)",
+                    e.dominant().label,
+                    100.0 * e.participation[0].share
+                ),
+                ridge_growth(&g, k, from_s, to_s),
+                ridge.iter().sum::<f64>() / ridge.len().max(1) as f64
+            );
+        }
+    }
+    // The analysis finds unstable modes where the explicit run's n >= 1 vibration grows, and
+    // none where it does not.
+    for (case, predicted, grows) in agreement {
+        assert_eq!(
+            predicted, grows,
+            "{case}: unstable predicted {predicted}, explicit growth {grows}"
+        );
+    }
+}
