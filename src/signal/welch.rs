@@ -264,9 +264,12 @@ mod tests {
         assert_eq!(err.exit_code(), 2);
         let text = err.to_string();
         assert!(
-            text.contains("nperseg") && text.contains("1..=10"),
+            text.contains("nperseg") && text.contains("2..=10"),
             "{text}"
         );
+        // A one-sample segment has no spectrum (its window is zero): refused the same way.
+        let err = welch(&[1.0; 10], 100.0, &WelchParams::new(1)).unwrap_err();
+        assert!(err.to_string().contains("2..=10"), "{err}");
     }
 
     #[test]
