@@ -9,13 +9,13 @@
 //!   lumped one is diagonal.
 //!
 //! Elements: the trilinear hexahedron, the hexahedron with incompatible modes (Wilson-Taylor),
-//! the quadratic tetrahedron and the triquadratic hexahedron. The geometry is a trilinear
+//! the quadratic and the linear tetrahedron and the triquadratic hexahedron. The geometry is a trilinear
 //! distortion of a box (non-parallel faces; for the quadratic elements their mid-side and
 //! centre nodes placed on the same trilinear map), which every element's quadrature
 //! integrates exactly for constant strain, so the checks hold to rounding.
 
 use squeal::fem::hex8::ElasticMaterial;
-use squeal::fem::{hex27, hex8, hex8_incompatible, tet10};
+use squeal::fem::{hex27, hex8, hex8_incompatible, tet10, tet4};
 
 /// An element under test: its name, dofs, K and M (row-major), volume, node coordinates.
 struct ElementCase {
@@ -91,6 +91,17 @@ fn cases() -> Vec<ElementCase> {
         m_consistent: flatten(&c.m),
         m_lumped: flatten(&l.m),
         volume: tet10::volume(&x10),
+    });
+    // Tet4: the same four corners, linear.
+    let c = tet4::element_matrices(&corners, &MATERIAL, false).expect("valid");
+    let l = tet4::element_matrices(&corners, &MATERIAL, true).expect("valid");
+    out.push(ElementCase {
+        name: "tet4",
+        x: corners.to_vec(),
+        k: flatten(&c.k),
+        m_consistent: flatten(&c.m),
+        m_lumped: flatten(&l.m),
+        volume: tet4::volume(&corners),
     });
     // Hex27: every node on the same trilinear map.
     let x27: [[f64; 3]; 27] = hex27::NODE_REFERENCE.map(trilinear);

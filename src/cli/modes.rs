@@ -55,6 +55,11 @@ pub struct ModesArgs {
     /// Poisson's ratio of a --mesh body (default 0.3).
     #[arg(long, requires = "mesh")]
     pub poisson_ratio: Option<f64>,
+    /// Linear tetrahedra of a --mesh: 2 elevates them to straight-sided quadratic tetrahedra
+    /// (tet10: same geometry, no locking in bending), 1 keeps them linear (stiff: a warning
+    /// is printed). Other elements are unaffected.
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=2))]
+    pub element_order: u8,
     /// Density (kg/m³) of a --mesh body (default 7850).
     #[arg(long, requires = "mesh")]
     pub density_kg_per_m3: Option<f64>,
@@ -130,7 +135,21 @@ pub fn run(args: ModesArgs) -> Result<()> {
     let started = std::time::Instant::now();
     let model = match &args.wheel {
         None => {
-            let mesh = read_mesh(&args)?;
+            let mut mesh = read_mesh(&args)?;
+            let linear = mesh.linear_tet_count();
+            if linear > 0 && args.element_order == 2 {
+                let elevated = mesh.elevate_linear_tets();
+                println!(
+                    "element order 2: {elevated} linear tetrahedra elevated to straight-sided \
+                     quadratic tetrahedra (tet10); --element-order 1 keeps them linear"
+                );
+            } else if linear > 0 {
+                eprintln!(
+                    "warning: {linear} linear tetrahedra kept linear (--element-order 1): they are \
+                     stiff in bending, so frequencies come out high unless the mesh is fine; \
+                     the default --element-order 2 elevates them to tet10"
+                );
+            }
             let model = mesh_model(mesh, material, &clamp, args.hex8.into())?;
             if let Some(n) = model.box_clamped_nodes {
                 println!("clamped {n} nodes ({})", args.clamp);

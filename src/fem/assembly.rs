@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use super::hex8::ElasticMaterial;
 use super::hex8_kind::{element_matrices_of_kind, Hex8Kind};
-use super::{hex27, tet10};
+use super::{hex27, tet10, tet4};
 use crate::mesh::volume::{VolumeElement, VolumeMesh};
 use crate::mesh::{Mesh, TiedInterface};
 use crate::{Error, Result};
@@ -237,6 +237,11 @@ pub fn assemble_volume(
                 VolumeElement::Tet10(c) => {
                     let x = c.map(|n| mesh.nodes[n]);
                     let em = tet10::element_matrices(&x, mat, lumped).ok_or_else(|| inverted(e))?;
+                    buf.set(c, em.k.iter().flatten(), em.m.iter().flatten());
+                }
+                VolumeElement::Tet4(c) => {
+                    let x = c.map(|n| mesh.nodes[n]);
+                    let em = tet4::element_matrices(&x, mat, lumped).ok_or_else(|| inverted(e))?;
                     buf.set(c, em.k.iter().flatten(), em.m.iter().flatten());
                 }
                 VolumeElement::Hex27(c) => {

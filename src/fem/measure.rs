@@ -5,13 +5,14 @@
 use crate::mesh::volume::{VolumeElement, VolumeMesh};
 use crate::mesh::P3;
 
-use super::{hex27, tet10};
+use super::{hex27, tet10, tet4};
 
 /// Element volume (m³).
 pub fn element_volume(mesh: &VolumeMesh, e: usize) -> f64 {
     match &mesh.elements[e] {
         VolumeElement::Hex8(c) => crate::mesh::hex::volume(&c.map(|n| mesh.nodes[n])),
         VolumeElement::Tet10(c) => tet10::volume(&c.map(|n| mesh.nodes[n])),
+        VolumeElement::Tet4(c) => tet4::volume(&c.map(|n| mesh.nodes[n])),
         VolumeElement::Hex27(c) => hex27::volume(&c.map(|n| mesh.nodes[n])),
     }
 }

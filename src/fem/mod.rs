@@ -10,6 +10,7 @@ pub mod hex8_kind;
 pub mod jacobian;
 pub mod measure;
 pub mod tet10;
+pub mod tet4;
 
 pub use assembly::{assemble, assemble_volume, Assembled, Constraints, MassKind, Materials};
 pub use hex8::{ElasticMaterial, ElementMatrices};

@@ -3,8 +3,8 @@
 //! Written: one volume entity per material (physical group `material_<id>`), hexahedra as
 //! element type 5 (8-node, same node order as VTK); each named surface as a surface entity of
 //! quads (type 3) with a physical group of the same name, so boundary conditions can be set on
-//! them in other tools. Read: nodes and 8-node hexahedra (type 5) and 10-node tetrahedra
-//! (type 11) with their entity tags; lower-dimensional elements are skipped.
+//! them in other tools. Read: nodes, 8-node hexahedra (type 5), 4-node tetrahedra (type 4) and
+//! 10-node tetrahedra (type 11) with their entity tags; lower-dimensional elements are skipped.
 
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -137,7 +137,7 @@ fn write_to(mesh: &Mesh, w: &mut impl Write) -> std::io::Result<()> {
     w.flush()
 }
 
-/// Contents of an MSH file: nodes, volume elements (hex8 or tet10) with their entity tag.
+/// Contents of an MSH file: nodes, volume elements (hex8, tet4 or tet10) with their entity tag.
 #[derive(Debug, Default)]
 pub struct MshContents {
     /// Node coordinates, in file order.
@@ -146,6 +146,8 @@ pub struct MshContents {
     pub hexahedra: Vec<([usize; 8], i64)>,
     /// 10-node tetrahedra (0-based, Gmsh order) with entity tags.
     pub tetrahedra10: Vec<([usize; 10], i64)>,
+    /// 4-node tetrahedra (0-based; Gmsh and VTK share the corner order) with entity tags.
+    pub tetrahedra4: Vec<([usize; 4], i64)>,
     /// Quads of surface entities with entity tags.
     pub quads: Vec<([usize; 4], i64)>,
     /// Physical names: (dimension, tag) -> name.
@@ -280,6 +282,9 @@ pub fn read(path: &Path) -> Result<MshContents> {
             11 if tags.len() == 10 => out
                 .tetrahedra10
                 .push((map(&tags)?.try_into().unwrap_or([0; 10]), entity)),
+            4 if tags.len() == 4 => out
+                .tetrahedra4
+                .push((map(&tags)?.try_into().unwrap_or([0; 4]), entity)),
             3 if tags.len() == 4 => out
                 .quads
                 .push((map(&tags)?.try_into().unwrap_or([0; 4]), entity)),

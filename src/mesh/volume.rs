@@ -25,6 +25,9 @@ pub enum VolumeElement {
     Hex8([usize; 8]),
     /// Quadratic tetrahedron.
     Tet10([usize; 10]),
+    /// Linear (constant-strain) tetrahedron; [`VolumeMesh::elevate_linear_tets`] turns it
+    /// into a straight-sided tet10.
+    Tet4([usize; 4]),
     /// Triquadratic (Lagrange) hexahedron.
     Hex27([usize; 27]),
 }
@@ -35,14 +38,16 @@ impl VolumeElement {
         match self {
             VolumeElement::Hex8(c) => c,
             VolumeElement::Tet10(c) => c,
+            VolumeElement::Tet4(c) => c,
             VolumeElement::Hex27(c) => c,
         }
     }
-    /// VTK cell type (12, 24 or 29).
+    /// VTK cell type (12, 24, 10 or 29).
     pub fn vtk_type(&self) -> u8 {
         match self {
             VolumeElement::Hex8(_) => 12,
             VolumeElement::Tet10(_) => 24,
+            VolumeElement::Tet4(_) => 10,
             VolumeElement::Hex27(_) => 29,
         }
     }
@@ -76,7 +81,58 @@ impl From<&Mesh> for VolumeMesh {
     }
 }
 
+/// Edges of a tetrahedron in the order of the tet10's mid-edge nodes (VTK type 24).
+const TET10_EDGES: [[usize; 2]; 6] = [[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]];
+
 impl VolumeMesh {
+    /// Elevates every linear tetrahedron to a straight-sided quadratic one (tet10, VTK order):
+    /// one new node at the midpoint of each edge, shared by the elements around the edge and
+    /// numbered in element order (deterministic); a new node joins a node set when both ends
+    /// of its edge are in it. The geometry is unchanged; the element no longer locks in
+    /// bending. Returns the number of elements elevated.
+    pub fn elevate_linear_tets(&mut self) -> usize {
+        let mut midpoints: BTreeMap<(usize, usize), usize> = BTreeMap::new();
+        let mut count = 0;
+        let nodes = &mut self.nodes;
+        for element in self.elements.iter_mut() {
+            let VolumeElement::Tet4(corners) = *element else {
+                continue;
+            };
+            let mut conn = [0usize; 10];
+            conn[..4].copy_from_slice(&corners);
+            for (k, [i, j]) in TET10_EDGES.iter().enumerate() {
+                let (a, b) = (corners[*i].min(corners[*j]), corners[*i].max(corners[*j]));
+                let id = *midpoints.entry((a, b)).or_insert_with(|| {
+                    let (pa, pb) = (nodes[a], nodes[b]);
+                    nodes.push([0, 1, 2].map(|d| 0.5 * (pa[d] + pb[d])));
+                    nodes.len() - 1
+                });
+                conn[4 + k] = id;
+            }
+            *element = VolumeElement::Tet10(conn);
+            count += 1;
+        }
+        for ids in self.node_sets.values_mut() {
+            let members: std::collections::HashSet<usize> = ids.iter().copied().collect();
+            for (&(a, b), &id) in &midpoints {
+                if members.contains(&a) && members.contains(&b) {
+                    ids.push(id);
+                }
+            }
+            ids.sort_unstable();
+            ids.dedup();
+        }
+        count
+    }
+
+    /// Number of linear tetrahedra.
+    pub fn linear_tet_count(&self) -> usize {
+        self.elements
+            .iter()
+            .filter(|e| matches!(e, VolumeElement::Tet4(_)))
+            .count()
+    }
+
     /// Axis-aligned bounding box (min, max).
     pub fn bounds(&self) -> (P3, P3) {
         let mut lo = [f64::INFINITY; 3];
@@ -158,6 +214,7 @@ impl VolumeMesh {
             match el {
                 VolumeElement::Hex8(c) => c.iter_mut().for_each(|k| *k = new_id[*k]),
                 VolumeElement::Tet10(c) => c.iter_mut().for_each(|k| *k = new_id[*k]),
+                VolumeElement::Tet4(c) => c.iter_mut().for_each(|k| *k = new_id[*k]),
                 VolumeElement::Hex27(c) => c.iter_mut().for_each(|k| *k = new_id[*k]),
             }
         }

@@ -30,6 +30,10 @@ pub fn read(path: &Path) -> Result<VolumeMesh> {
                 m.elements.push(VolumeElement::Hex8(conn));
                 m.material.push(entity.max(0) as u32);
             }
+            for (conn, entity) in c.tetrahedra4 {
+                m.elements.push(VolumeElement::Tet4(conn));
+                m.material.push(entity.max(0) as u32);
+            }
             for (conn, entity) in c.tetrahedra10 {
                 let vtk = GMSH_TO_VTK_TET10.map(|k| conn[k]);
                 m.elements.push(VolumeElement::Tet10(vtk));
@@ -117,18 +121,16 @@ pub fn from_vtk_contents(source: &str, c: VtuContents) -> Result<VolumeMesh> {
                 m.material.push(material);
             }
             10 => {
-                return Err(Error::input(
-                    source,
-                    "cells",
-                    format!("cell {i} is a linear tetrahedron (VTK type 10): not supported (too stiff for modal analysis); use quadratic tetrahedra (type 24, e.g. Gmsh -order 2) or hexahedra (type 12)"),
-                ))
+                let conn: [usize; 4] = cell.as_slice().try_into().map_err(|_| wrong_count(4))?;
+                m.elements.push(VolumeElement::Tet4(conn));
+                m.material.push(material);
             }
             t if SKIPPED_VTK_TYPES.contains(&t) => {}
             t => {
                 return Err(Error::input(
                     source,
                     "cells",
-                    format!("cell {i} has VTK cell type {t}, which is not supported: volume cells must be hexahedra (12), quadratic tetrahedra (24) or triquadratic hexahedra (29)"),
+                    format!("cell {i} has VTK cell type {t}, which is not supported: volume cells must be hexahedra (12), linear (10) or quadratic tetrahedra (24) or triquadratic hexahedra (29)"),
                 ))
             }
         }
