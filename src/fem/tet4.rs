@@ -44,7 +44,7 @@ pub fn volume(x: &[P3; 4]) -> f64 {
 /// Gradients of the four shape functions (constant); `None` for a non-positive volume.
 pub fn gradients(x: &[P3; 4]) -> Option<[[f64; 3]; 4]> {
     let v = volume(x);
-    if !(v > 0.0) {
+    if v.is_nan() || v <= 0.0 {
         return None;
     }
     // Rows of J⁻¹ with J = [x1 - x0, x2 - x0, x3 - x0] (columns) are the gradients of L_1..L_3:
