@@ -298,7 +298,7 @@ fn write_outputs(
     let json = serde_json::to_string_pretty(&records).expect("serialisable");
     std::fs::write(&p, json).map_err(|e| Error::io(&p, e))?;
     let mut csv = String::from(
-        "index,frequency_hz,family,nodal_circles,nodal_diameters,residual,pair,rigid\n",
+        "index,frequency_hz,family,nodal_circles,nodal_diameters,residual,residual_floor,pair,rigid\n",
     );
     println!(
         "{:>4} {:>10} {:>16} {:>6} {:>10} {:>5}",
@@ -311,13 +311,14 @@ fn write_outputs(
             .unwrap_or("")
             .to_string();
         csv.push_str(&format!(
-            "{},{:.6},{},{},{},{:.3e},{},{}\n",
+            "{},{:.6},{},{},{},{:.3e},{:.3e},{},{}\n",
             r.index,
             r.frequency_hz,
             fam,
             r.nodal_circles,
             r.nodal_diameters,
             r.residual,
+            r.residual_floor,
             r.is_pair,
             r.rigid
         ));

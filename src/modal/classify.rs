@@ -41,6 +41,9 @@ pub struct ModeRecord {
     pub nodal_diameters: u32,
     /// Largest relative residual of the members.
     pub residual: f64,
+    /// Largest rounding floor of the members' residuals ([`crate::modal::residual`]); set by
+    /// the pipeline from the solution (0 where classified without one).
+    pub residual_floor: f64,
     /// Two members (sin/cos pair).
     pub is_pair: bool,
     /// Rigid-body mode.
@@ -400,6 +403,7 @@ pub fn classify_modes_points(
             nodal_circles,
             nodal_diameters: c.nodal_diameters,
             residual,
+            residual_floor: 0.0,
             is_pair: pair,
             rigid: *rigid,
             members,

@@ -1,6 +1,7 @@
 //! Dense eigen solves: small models solved whole (`K` and `M` dense, Cholesky of `M`,
 //! symmetric QR), and the Ritz values and vectors of the projected Lanczos matrix.
 
+use super::residual::rounding_floor;
 use super::solution::{ModalOptions, ModalSolution, Mode};
 use crate::fem::assembly::sym_lower_matvec;
 use crate::{Error, Result};
@@ -79,6 +80,7 @@ pub(super) fn solve_dense(
             frequency_hz: freq,
             eigenvalue: lambda,
             residual: r / denom,
+            residual_floor: rounding_floor(k, m, &x, lambda, denom),
             rigid,
             vector: x,
         });

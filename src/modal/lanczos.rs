@@ -6,6 +6,7 @@ use super::factor::{
     numeric_factor, shifted, sturm_count_with, symbolic_pencil, FactorKind, ShiftInvert,
 };
 pub use super::slice::{check_slices, MAX_SLICES};
+use super::residual::FLOOR_FACTOR;
 use super::slice::{solve_slice, Slice};
 pub use super::solution::{ModalOptions, ModalSolution, Mode};
 use crate::{Error, Result};
@@ -194,14 +195,17 @@ pub fn solve(
     }
     drop(a);
     modes.sort_by(|a, b| a.eigenvalue.total_cmp(&b.eigenvalue));
-    if let Some(bad) = modes
-        .iter()
-        .find(|m| m.residual.is_nan() || m.residual >= opts.residual_tolerance)
-    {
+    // A mode is refused only where its residual is above both the tolerance and what double
+    // precision lets it reach (modal::residual).
+    if let Some(bad) = modes.iter().find(|m| {
+        m.residual.is_nan()
+            || m.residual >= opts.residual_tolerance.max(FLOOR_FACTOR * m.residual_floor)
+    }) {
         return Err(Error::Numerical(format!(
-            "mode at {:.3} Hz has relative residual {:.2e} above the tolerance {:.0e}; \
-             the mesh may be badly conditioned (check element quality) or the band too wide",
-            bad.frequency_hz, bad.residual, opts.residual_tolerance
+            "mode at {:.3} Hz has relative residual {:.2e} above the tolerance {:.0e} and above \
+             {FLOOR_FACTOR} times its rounding floor {:.1e}; the mesh may be badly conditioned \
+             (check element quality) or the band too wide",
+            bad.frequency_hz, bad.residual, opts.residual_tolerance, bad.residual_floor
         )));
     }
     if trace {

@@ -28,7 +28,8 @@
 //! - each Ritz vector is purified by one more application of `Op` (damps the components along
 //!   high modes that rounding leaves), its eigenvalue is the Rayleigh quotient, and its relative
 //!   residual `||K x - w² M x|| / ||K x||` (rigid modes: `/ (|sigma| ||M x||)`) must be below
-//!   the tolerance, else the solve fails with a message.
+//!   the tolerance or within [`residual::FLOOR_FACTOR`] times what double precision lets it
+//!   reach ([`residual`]), else the solve fails with a message.
 //!
 //! Files, one job each: [`lanczos`] (the band solve), [`solution`] (options and results),
 //! [`factor`] (the shifted pencil, its symbolic analysis and factors, the shift-invert
@@ -50,6 +51,7 @@ pub mod lanczos;
 pub mod mode;
 pub mod ordering;
 pub mod pipeline;
+pub mod residual;
 pub mod slice;
 pub mod solution;
 

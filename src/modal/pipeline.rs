@@ -109,7 +109,7 @@ pub fn solve_and_classify(model: &ModalModel, fmax_hz: f64, slices: usize) -> Re
         .iter()
         .map(|m| (m.frequency_hz, m.residual, m.rigid, asm.expand(&m.vector)))
         .collect();
-    let records = match &model.mesh {
+    let mut records = match &model.mesh {
         ModalMesh::Hex(mesh) => classify_modes(mesh, model.centre, &shapes),
         ModalMesh::Volume(mesh) => {
             let axle = axle_only_nodes_of(
@@ -128,6 +128,13 @@ pub fn solve_and_classify(model: &ModalModel, fmax_hz: f64, slices: usize) -> Re
             )
         }
     };
+    for record in &mut records {
+        record.residual_floor = record
+            .members
+            .iter()
+            .map(|&k| solution.modes[k].residual_floor)
+            .fold(0.0, f64::max);
+    }
     Ok(ModalRun {
         solution,
         shapes,

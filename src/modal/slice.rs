@@ -4,6 +4,7 @@
 use super::block::{add_a_c, m_block, m_orthogonalise_lanczos, next_block, start_block};
 use super::dense::ritz;
 use super::factor::ShiftInvert;
+use super::residual::rounding_floor;
 use super::solution::{ModalOptions, Mode};
 use crate::{Error, Result};
 use faer::sparse::SparseColMat;
@@ -282,6 +283,7 @@ pub(super) fn solve_slice(
                 frequency_hz: freq,
                 eigenvalue: lambda,
                 residual: r / denom,
+                residual_floor: rounding_floor(k, m, yc, lambda, denom),
                 rigid,
                 vector: yc.iter().map(|v| v / nrm).collect(),
             }

@@ -56,6 +56,9 @@ pub struct Mode {
     pub eigenvalue: f64,
     /// Relative residual (see the module docs).
     pub residual: f64,
+    /// What double precision lets that residual reach for this mode
+    /// ([`crate::modal::residual`]).
+    pub residual_floor: f64,
     /// Rigid-body mode (frequency below `rigid_below_hz`).
     pub rigid: bool,
     /// Eigenvector in the reduced dofs, M-normalised (`xᵀ M x = 1`).
