@@ -88,3 +88,14 @@ fn log_axis_skips_non_positive_values() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Tick labels on an axis: a tick that floating-point stepping put at 1.39e-17 instead of 0
+/// reads 0; real small values on a small axis keep their value.
+#[test]
+fn ticks_near_zero_read_zero_on_their_axis() {
+    use squeal::report::chart::tick_label_on_span;
+    assert_eq!(tick_label_on_span(1.39e-17, 2.0), "0");
+    assert_eq!(tick_label_on_span(-2.2e-16, 0.5), "0");
+    assert_eq!(tick_label_on_span(0.25, 2.0), "0.25");
+    assert_eq!(tick_label_on_span(1e-6, 1e-5), "1e-6");
+}

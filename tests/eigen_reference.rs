@@ -316,7 +316,11 @@ fn modes_at_their_rounding_floor_are_accepted_and_right() {
         // is backward stable), so compare on that scale: 1e3 u lambda_top.
         let error = (mode.eigenvalue - r).abs();
         worst = worst.max(error / (f64::EPSILON * lambda_top));
-        assert!(error <= 1e3 * f64::EPSILON * lambda_top, "{} vs {r}", mode.eigenvalue);
+        assert!(
+            error <= 1e3 * f64::EPSILON * lambda_top,
+            "{} vs {r}",
+            mode.eigenvalue
+        );
     }
     println!(
         "{above_tolerance} of 20 modes above the 1e-8 tolerance, all within {FLOOR_FACTOR} times \

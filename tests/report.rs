@@ -115,7 +115,71 @@ fn report_has_every_section_and_file() {
     // The mode table identifies the (0,3) peak of the lateral vibration.
     assert!(md.contains("| (0,3) | Axial |"), "{md}");
     assert!(md.contains("wall_time_s"));
+    // The summary comes first and says whether the squeal modes are among the peaks.
+    assert_eq!(summary.sections[0], "Summary");
+    assert!(md.contains("(0,3) / (0,4) among them"), "{md}");
+    assert!(md.contains("yes / "), "the (0,3) run's verdict: {md}");
+    page_loads_as_a_reader_sees_it(&out, &html);
     let _ = std::fs::remove_dir_all(&root);
+}
+
+/// The HTML page as a reader's browser takes it: every image it shows exists and is a PNG,
+/// every table-of-contents link leads to a section; and, where a headless Chromium is
+/// installed, the page renders to a screenshot (skipped with a note where it is not).
+fn page_loads_as_a_reader_sees_it(out: &Path, html: &str) {
+    let attribute = |tag: &str, name: &str| -> Vec<String> {
+        html.split(tag)
+            .skip(1)
+            .filter_map(|rest| {
+                let start = rest.find(&format!("{name}=\""))? + name.len() + 2;
+                let end = rest[start..].find('"')? + start;
+                Some(rest[start..end].to_string())
+            })
+            .collect()
+    };
+    let images = attribute("<img ", "src");
+    assert!(!images.is_empty());
+    for src in &images {
+        let bytes = std::fs::read(out.join(src)).unwrap_or_default();
+        assert!(bytes.starts_with(b"\x89PNG"), "image {src} does not load");
+    }
+    let links = attribute("<a ", "href");
+    let toc: Vec<&String> = links
+        .iter()
+        .filter(|l| l.starts_with("#section-"))
+        .collect();
+    assert!(!toc.is_empty(), "no table of contents");
+    for link in toc {
+        assert!(
+            html.contains(&format!("id=\"{}\"", &link[1..])),
+            "{link} leads nowhere"
+        );
+    }
+    assert!(html.contains("<style>") && html.contains("nav.toc"));
+    let browser = ["chromium", "chromium-browser", "google-chrome"]
+        .into_iter()
+        .find(|b| {
+            std::process::Command::new(b)
+                .arg("--version")
+                .output()
+                .is_ok_and(|o| o.status.success())
+        });
+    match browser {
+        Some(b) => {
+            let shot = out.join("screenshot.png");
+            let status = std::process::Command::new(b)
+                .args(["--headless", "--disable-gpu", "--no-sandbox"])
+                .arg(format!("--screenshot={}", shot.display()))
+                .arg(format!("file://{}", out.join("index.html").display()))
+                .status()
+                .expect("browser");
+            assert!(
+                status.success() && shot.exists(),
+                "{b} did not render the page"
+            );
+        }
+        None => println!("no headless Chromium here: the page was checked as files only"),
+    }
 }
 
 #[test]

@@ -34,6 +34,9 @@ pub struct ReportArgs {
     /// report lists its predicted unstable modes beside the PSD peaks.
     #[arg(long)]
     pub stability: Option<PathBuf>,
+    /// PSD charts up to the Nyquist frequency instead of the squeal band (0-5 kHz).
+    #[arg(long)]
+    pub full_range: bool,
 }
 
 /// Run `squeal report`.
@@ -47,6 +50,7 @@ pub fn run(args: ReportArgs) -> Result<()> {
         to_s: args.to_ms.map(|t| t * 1e-3),
         resolution_hz: args.resolution_hz,
         stability: args.stability,
+        full_frequency_range: args.full_range,
     };
     let summary = build_report(
         &args.run_dirs,

@@ -5,8 +5,8 @@ pub use super::factor::sturm_count;
 use super::factor::{
     numeric_factor, shifted, sturm_count_with, symbolic_pencil, FactorKind, ShiftInvert,
 };
-pub use super::slice::{check_slices, MAX_SLICES};
 use super::residual::FLOOR_FACTOR;
+pub use super::slice::{check_slices, MAX_SLICES};
 use super::slice::{solve_slice, Slice};
 pub use super::solution::{ModalOptions, ModalSolution, Mode};
 use crate::{Error, Result};

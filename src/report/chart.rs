@@ -187,8 +187,8 @@ where
                 .label_style(("sans-serif", 16))
                 .axis_desc_style(("sans-serif", 19))
                 .light_line_style(RGBColor(235, 235, 235))
-                .x_label_formatter(&tick_label)
-                .y_label_formatter(&tick_label)
+                .x_label_formatter(&|v: &f64| tick_label_on_span(*v, x1 - x0))
+                .y_label_formatter(&|v: &f64| tick_label_on_span(*v, y1 - y0))
                 .draw()
                 .map_err(|e| e.to_string())?;
             for s in &chart.series {
@@ -305,6 +305,16 @@ fn drawing_error(path: &Path, message: String) -> Error {
         path: path.display().to_string(),
         source: std::io::Error::other(message),
     }
+}
+
+/// Axis tick text on an axis spanning `span`: a tick within 1e-9 of the span from zero is
+/// zero (tick positions stepped in floating point land at 1.39e-17 instead of 0), the rest as
+/// [`tick_label`].
+pub fn tick_label_on_span(v: f64, span: f64) -> String {
+    if v.abs() <= 1e-9 * span.abs() {
+        return "0".into();
+    }
+    tick_label(&v)
 }
 
 /// Axis tick text: plain numbers with at most 4 significant digits, powers of ten as 1e-6.

@@ -55,4 +55,11 @@ pub struct ReportOptions {
     pub resolution_hz: Option<f64>,
     /// A `stability.json` (of `squeal stability`) for the runs that have none of their own.
     pub stability: Option<PathBuf>,
+    /// PSD charts over the whole spectrum up to Nyquist instead of the squeal band
+    /// (0 to [`SQUEAL_BAND_TOP_HZ`]).
+    pub full_frequency_range: bool,
 }
+
+/// Top of the frequency band the PSD charts show by default (Hz): wheel squeal lies between
+/// about 0.1 and 5 kHz (Thompson, Railway Noise and Vibration, 2009, ch. 9).
+pub const SQUEAL_BAND_TOP_HZ: f64 = 5000.0;

@@ -124,6 +124,7 @@ pub fn build_report(
         report_options,
     };
     let _ = writeln!(page.md, "# {title}\n\nRuns: {}. Axes: x along the track, y lateral (field side), z up. Mode labels: (nodal circles, nodal diameters).", runs.iter().map(|r| format!("`{}`", r.name)).collect::<Vec<_>>().join(", "));
+    sections::summary(&mut page, &ctx)?;
     sections::vibration(&mut page, &ctx)?;
     sections::wavelets(&mut page, &ctx)?;
     sections::contact_forces(&mut page, &ctx)?;
@@ -156,6 +157,14 @@ pub fn build_report(
     .map_err(|e| Error::io(&json, e))?;
     Ok(summary)
 }
+
+/// The report page's stylesheet: a readable column, tables with lines, charts two per row,
+/// the table of contents in a box.
+const REPORT_CSS: &str = "body{font-family:system-ui,sans-serif;max-width:1400px;margin:auto;\
+padding:0 1em;color:#222;line-height:1.45}h1{border-bottom:2px solid #345}h2{margin-top:2em;\
+border-bottom:1px solid #ccc}table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px \
+solid #bbb;padding:3px 8px}tr:nth-child(even){background:#f4f6f8}img{margin:4px}\
+nav.toc{background:#f4f6f8;border:1px solid #ccd;padding:0.5em 1em;display:inline-block}";
 
 /// Minimal markdown -> HTML for the report's own markdown (headings, images, links, tables,
 /// lists, paragraphs).
@@ -197,7 +206,21 @@ pub fn markdown_to_html(title: &str, md: &str) -> String {
         out.push_str(&esc(rest));
         out
     };
-    let mut html = format!("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{}</title><style>body{{font-family:sans-serif;max-width:1400px;margin:auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #bbb;padding:3px 8px}}</style></head><body>\n", esc(title));
+    let mut html = format!(
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{}</title><style>{REPORT_CSS}</style></head><body>\n",
+        esc(title)
+    );
+    // A table of contents of the sections (## headings), placed after the title.
+    let sections: Vec<&str> = md.lines().filter_map(|l| l.strip_prefix("## ")).collect();
+    let mut toc = String::from("<nav class=\"toc\"><b>Contents</b><ol>\n");
+    for (k, h) in sections.iter().enumerate() {
+        toc.push_str(&format!(
+            "<li><a href=\"#section-{k}\">{}</a></li>\n",
+            inline(h)
+        ));
+    }
+    toc.push_str("</ol></nav>\n");
+    let mut section_index = 0;
     let mut in_table = false;
     let mut in_list = false;
     for line in md.lines() {
@@ -235,9 +258,17 @@ pub fn markdown_to_html(title: &str, md: &str) -> String {
         if let Some(h) = l.strip_prefix("### ") {
             html.push_str(&format!("<h3>{}</h3>\n", inline(h)));
         } else if let Some(h) = l.strip_prefix("## ") {
-            html.push_str(&format!("<h2>{}</h2>\n", inline(h)));
+            html.push_str(&format!(
+                "<h2 id=\"section-{section_index}\">{}</h2>\n",
+                inline(h)
+            ));
+            section_index += 1;
         } else if let Some(h) = l.strip_prefix("# ") {
             html.push_str(&format!("<h1>{}</h1>\n", inline(h)));
+            if !sections.is_empty() {
+                html.push_str(&toc);
+                toc.clear();
+            }
         } else if !l.is_empty() {
             html.push_str(&format!("<p>{}</p>\n", inline(l)));
         }

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::chart::{write, write_heatmap, Heatmap, LineChart, Series, Stroke};
-use super::page::{Page, ReportOptions, Run};
+use super::page::{Page, ReportOptions, Run, SQUEAL_BAND_TOP_HZ};
 
 /// What every section reads.
 #[derive(Clone, Copy)]
@@ -94,6 +94,65 @@ fn wavelet_chart(
 /// Wheel vibration histories and PSDs of all runs on one figure per direction (paper fig. 9); the PSD chart states its window and padding.
 ///
 /// Kept in one piece: one report section, written top to bottom as it reads.
+/// The page's first section: per run, what was simulated, the contact forces' extremes, the
+/// dominant lateral peaks with their modes and whether the squeal modes (0,3) and (0,4) are
+/// among them; the details follow in the sections below.
+pub(super) fn summary(page: &mut Page, ctx: &Context) -> Result<()> {
+    page.heading("Summary");
+    let mut md = String::from(
+        "| run | simulated (ms) | largest Fn (kN) | largest abs Fy (kN) | dominant lateral peaks | (0,3) / (0,4) among them |\n|---|---|---|---|---|---|\n",
+    );
+    for r in ctx.runs {
+        let time = r.histories.column("time_s").unwrap_or(&[]);
+        let span = match (time.first(), time.last()) {
+            (Some(a), Some(b)) => format!("{:.1}-{:.1}", a * 1e3, b * 1e3),
+            _ => "-".into(),
+        };
+        let forces = Table::read(&r.dir.join("contact_forces.csv")).ok();
+        let largest = |name: &str| -> String {
+            forces
+                .as_ref()
+                .and_then(|t| t.column(name))
+                .map(|c| c.iter().fold(0.0f64, |m, v| m.max(v.abs())))
+                .map_or("-".into(), |v| format!("{:.1}", v * 1e-3))
+        };
+        let lateral = r.analyses.iter().find(|a| a.column.starts_with("lateral"));
+        let (peaks, squeal) = match lateral {
+            Some(a) => {
+                let peaks: Vec<String> = a
+                    .identifications
+                    .iter()
+                    .map(|p| match &p.mode {
+                        Some(m) => format!("{:.0} Hz {}", p.peak_frequency_hz, m.label()),
+                        None => format!("{:.0} Hz (no mode)", p.peak_frequency_hz),
+                    })
+                    .collect();
+                let has = |label: &str| {
+                    a.identifications
+                        .iter()
+                        .any(|p| p.mode.as_ref().is_some_and(|m| m.label() == label))
+                };
+                let yes_no = |b: bool| if b { "yes" } else { "no" };
+                (
+                    peaks.join(", "),
+                    format!("{} / {}", yes_no(has("(0,3)")), yes_no(has("(0,4)"))),
+                )
+            }
+            None => ("(no modes.json)".into(), "-".into()),
+        };
+        let _ = writeln!(
+            md,
+            "| `{}` | {span} | {} | {} | {peaks} | {squeal} |",
+            r.name,
+            largest("normal_force_n"),
+            largest("lateral_force_n")
+        );
+    }
+    page.md.push_str(&md);
+    page.md.push('\n');
+    Ok(())
+}
+
 pub(super) fn vibration(page: &mut Page, ctx: &Context) -> Result<()> {
     let Context { runs, out_dir, .. } = *ctx;
     // ---- Vibration histories and PSDs of all runs (paper fig. 9).
@@ -199,6 +258,12 @@ pub(super) fn vibration(page: &mut Page, ctx: &Context) -> Result<()> {
                 y_label: format!("PSD (({unit})^2/Hz)"),
                 series: psds,
                 log_y: true,
+                // The squeal band unless the whole spectrum is asked for (--full-range).
+                x_range: if ctx.report_options.full_frequency_range {
+                    None
+                } else {
+                    Some((0.0, SQUEAL_BAND_TOP_HZ))
+                },
                 ..Default::default()
             },
             Some(&out_dir.join(format!("{stem}_psd.png"))),
