@@ -22,7 +22,7 @@ fn build(label: &str, loaded: &LoadedScenario) {
 }
 
 fn main() {
-    let paper = LoadedScenario::from_file(std::path::Path::new("data/scenarios/paper.json"))
+    let paper = LoadedScenario::from_file(std::path::Path::new("data/models/paper.json"))
         .expect("paper scenario");
     build("paper", &paper);
     let mut big = paper.clone();

@@ -1,11 +1,11 @@
 //! Tutorial 4: a rolling case on the tiny test model.
 //!
-//! `data/scenarios/case3-ci.json`: the half wheelset on 54E1 with the forward guide, the
+//! `data/cases/case3-ci.json`: the half wheelset on 54E1 with the forward guide, the
 //! driving torque and a smooth lateral motion, on coarse meshes, for 2 ms. It builds the model,
 //! preloads it statically, rolls it and writes a run directory: `histories.csv`,
 //! `contact_forces.csv`, a patch snapshot, `run.json` (where the contact sits, the flange
 //! clearance, the invariants). The demo cases run the same code on finer meshes for 40 ms
-//! (`squeal simulate --scenario data/scenarios/case3-demo.json --out out/case3`).
+//! (`squeal simulate --scenario data/cases/case3-demo.json --out out/case3`).
 //!
 //!     cargo run --release --example ex4_tiny_rolling [OUT_DIR]
 
@@ -17,7 +17,7 @@ fn main() -> squeal::Result<()> {
         .map(std::path::PathBuf::from)
         .unwrap_or_else(|| std::env::temp_dir().join("squeal-ex4"));
     let _ = std::fs::remove_dir_all(&out);
-    let case = load_case(std::path::Path::new("data/scenarios/case3-ci.json"))?;
+    let case = load_case(std::path::Path::new("data/cases/case3-ci.json"))?;
     let record = simulate(
         &case,
         &SimulateOptions {

@@ -24,7 +24,13 @@ pub fn parse_json<T: DeserializeOwned>(text: &str, source_name: &str) -> Result<
 
 /// Read and parse a JSON file.
 pub fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let text = read_text(path)?;
+    parse_json(&text, &path.display().to_string())
+}
+
+/// The text of an input file; a path that names no file is an input error (exit 2).
+pub fn read_text(path: &Path) -> Result<String> {
+    std::fs::read_to_string(path).map_err(|e| {
         // A path that names no file is a mistake in the input (exit 2), not a failing disk.
         if e.kind() == std::io::ErrorKind::NotFound {
             Error::input(
@@ -35,8 +41,7 @@ pub fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T> {
         } else {
             Error::io(path, e)
         }
-    })?;
-    parse_json(&text, &path.display().to_string())
+    })
 }
 
 /// Range checks that produce [`Error::Input`] naming the file and field.

@@ -1,4 +1,4 @@
-//! Scenario files (`data/scenarios/*.json`): which wheel, how it is meshed, the track and where
+//! Model scenario files (`data/models/*.json`): which wheel, how it is meshed, the track and where
 //! the wheel stands on it. Paths inside a scenario are relative to the scenario file. Every
 //! field is checked; errors name the file, the field and the allowed range.
 
@@ -166,16 +166,37 @@ pub struct LoadedScenario {
     pub source_name: String,
 }
 
-/// The embedded default scenario (`data/scenarios/demo.json`) and the wheel it uses.
-pub const EMBEDDED_DEMO_SCENARIO: &str = include_str!("../data/scenarios/demo.json");
+/// The embedded default scenario (`data/models/demo.json`) and the wheel it uses.
+pub const EMBEDDED_DEMO_SCENARIO: &str = include_str!("../data/models/demo.json");
 /// The embedded default wheel.
 pub const EMBEDDED_DEFAULT_WHEEL: &str = include_str!("../data/wheels/ns_intercity_920.json");
 
 impl LoadedScenario {
-    /// Load a scenario file and its wheel.
+    /// Load a scenario file and its wheel. A rolling case file (`data/cases/`) is accepted in
+    /// its place: it names its model scenario (`model_scenario`), which is loaded.
     pub fn from_file(path: &Path) -> Result<Self> {
         let source_name = path.display().to_string();
-        let scenario: Scenario = read_json(path)?;
+        let text = crate::input::read_text(path)?;
+        // Which kind of file (a malformed one is reported by the typed parse below).
+        let value: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
+        if let Some(model) = value.get("model_scenario").and_then(|m| m.as_str()) {
+            let model_path = path.parent().unwrap_or(Path::new(".")).join(model);
+            let model_value: serde_json::Value =
+                serde_json::from_str(&crate::input::read_text(&model_path)?).unwrap_or_default();
+            if model_value.get("model_scenario").is_some() {
+                return Err(Error::input(
+                    &source_name,
+                    "model_scenario",
+                    format!(
+                        "names {}, which is a case file too: it must name a model scenario \
+                         (data/models/)",
+                        model_path.display()
+                    ),
+                ));
+            }
+            return Self::from_file(&model_path);
+        }
+        let scenario: Scenario = crate::input::parse_json(&text, &source_name)?;
         let wheel_path: PathBuf = path
             .parent()
             .unwrap_or(Path::new("."))
@@ -202,7 +223,7 @@ impl LoadedScenario {
 
     /// The embedded default (demo) scenario.
     pub fn embedded_default() -> Result<Self> {
-        let source_name = "embedded default scenario (data/scenarios/demo.json)".to_string();
+        let source_name = "embedded default scenario (data/models/demo.json)".to_string();
         let scenario: Scenario = parse_json(EMBEDDED_DEMO_SCENARIO, &source_name)?;
         let wheel: WheelSpec = parse_json(EMBEDDED_DEFAULT_WHEEL, "embedded default wheel")?;
         Self::finish(scenario, wheel, source_name)

@@ -63,8 +63,8 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         .join("wheels/ns_intercity_920.json")
         .display()
         .to_string();
-    let demo = data.join("scenarios/demo.json").display().to_string();
-    let case = data.join("scenarios/case3-ci.json").display().to_string();
+    let demo = data.join("models/demo.json").display().to_string();
+    let case = data.join("cases/case3-ci.json").display().to_string();
     let s = fx.join("s.csv").display().to_string();
     let header = fx.join("header.csv").display().to_string();
     let empty = fx.join("empty.csv").display().to_string();

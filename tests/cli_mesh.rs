@@ -21,7 +21,7 @@ fn edited_inputs(
     edit: impl Fn(&mut serde_json::Value),
 ) -> (PathBuf, PathBuf) {
     let mut scenario: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string("data/scenarios/demo.json").expect("demo"))
+        serde_json::from_str(&std::fs::read_to_string("data/models/demo.json").expect("demo"))
             .expect("json");
     let mut wheel: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string("data/wheels/ns_intercity_920.json").expect("wheel"),

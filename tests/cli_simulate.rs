@@ -18,11 +18,10 @@ fn temp_dir(tag: &str) -> PathBuf {
 /// The tiny CI case with a longer end time (so that a signal lands inside the rolling run) and
 /// the model path made absolute (the copy lives in a temp directory).
 fn long_tiny_case(dir: &Path, end_time_s: f64) -> PathBuf {
-    let mut case: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string("data/scenarios/case3-ci.json").expect("case"),
-    )
-    .expect("json");
-    let model = std::fs::canonicalize("data/scenarios/ci-tiny.json").expect("model");
+    let mut case: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("data/cases/case3-ci.json").expect("case"))
+            .expect("json");
+    let model = std::fs::canonicalize("data/models/ci-tiny.json").expect("model");
     case["model_scenario"] = serde_json::Value::String(model.display().to_string());
     case["end_time_s"] = serde_json::json!(end_time_s);
     case["output"]["vtu_times_s"] = serde_json::json!([]);
@@ -210,7 +209,7 @@ fn bench_rolling_splits_a_step_and_refuses_bad_step_counts() {
                 "bench",
                 "rolling",
                 "--scenario",
-                "data/scenarios/case3-ci.json",
+                "data/cases/case3-ci.json",
                 "--steps",
                 steps,
             ])
@@ -261,7 +260,7 @@ fn runs_and_reports_are_never_overwritten_or_misplaced() {
             .args([
                 "simulate",
                 "--scenario",
-                "data/scenarios/case3-ci.json",
+                "data/cases/case3-ci.json",
                 "--end-time-ms",
                 "0.2",
                 "--quiet",
@@ -298,7 +297,7 @@ fn runs_and_reports_are_never_overwritten_or_misplaced() {
         .args([
             "simulate",
             "--scenario",
-            "data/scenarios/case3-ci.json",
+            "data/cases/case3-ci.json",
             "--resume",
             "--out",
         ])

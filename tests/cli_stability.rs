@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-const CASE: &str = "data/scenarios/case3-demo.json";
+const CASE: &str = "data/cases/case3-demo.json";
 
 fn squeal() -> Command {
     Command::new(env!("CARGO_BIN_EXE_squeal"))

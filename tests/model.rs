@@ -10,7 +10,7 @@ use squeal::rolling::{build, load_case};
 
 #[test]
 fn rolling_description_carries_the_case_totals() {
-    let loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    let loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
     let case = &loaded.case;
     let d = describe(&loaded).unwrap();
     let sleepers = d

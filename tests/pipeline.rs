@@ -8,7 +8,7 @@ use squeal::rolling::load_case;
 
 #[test]
 fn reduced_default_run_writes_a_complete_report() {
-    let case = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    let case = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
     let dir = std::env::temp_dir().join(format!("squeal_pipeline_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let modes = squeal::pipeline::axisym_modes_stage(case.scenario.wheel.clone());

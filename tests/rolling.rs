@@ -1,4 +1,4 @@
-//! Rolling contact on the tiny test model (data/scenarios/case3-ci.json, 2 ms): the whole
+//! Rolling contact on the tiny test model (data/cases/case3-ci.json, 2 ms): the whole
 //! `squeal simulate` path (model build, preload, rolling start, contact, outputs) and the
 //! invariants every case must keep. The demo cases run the same code on finer meshes.
 use std::path::Path;
@@ -40,7 +40,7 @@ fn run_in_temp(
 
 #[test]
 fn tiny_case_runs_and_keeps_the_contact_invariants() {
-    let loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    let loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
     let (record, dir) = run_in_temp(&loaded, "squeal_rolling", None);
     assert_eq!(record.run.status, "completed");
     assert!(
@@ -218,7 +218,7 @@ fn tiny_case_runs_and_keeps_the_contact_invariants() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The lateral ramp of `data/scenarios/case3-ci.json`, as written there.
+/// The lateral ramp of `data/cases/case3-ci.json`, as written there.
 const LATERAL_RAMP: &str = "{
     \"shape\": \"ramp\",
     \"start_s\": 0.001,
@@ -232,7 +232,7 @@ const LATERAL_RAMP: &str = "{
 fn bad_case_files_name_the_field() {
     let dir = std::env::temp_dir().join(format!("squeal_rolling_bad_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let text = std::fs::read_to_string("data/scenarios/case3-ci.json").unwrap();
+    let text = std::fs::read_to_string("data/cases/case3-ci.json").unwrap();
     let cases = [
         (
             "\"penalty_scale\": 0.1",
@@ -305,7 +305,7 @@ fn bad_case_files_name_the_field() {
         assert!(text.contains(from), "{from}");
         let path = dir.join("case.json");
         // The model scenario is looked up beside the case file.
-        std::fs::copy("data/scenarios/ci-tiny.json", dir.join("ci-tiny.json")).unwrap();
+        std::fs::copy("data/models/ci-tiny.json", dir.join("ci-tiny.json")).unwrap();
         std::fs::copy("data/wheels/ns_intercity_920.json", dir.join("wheel.json")).unwrap();
         let scen = std::fs::read_to_string(dir.join("ci-tiny.json"))
             .unwrap()
@@ -331,12 +331,12 @@ fn edited_tiny_case(
     let dir = std::env::temp_dir().join(format!("squeal_rolling_{tag}_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::copy("data/wheels/ns_intercity_920.json", dir.join("wheel.json")).unwrap();
-    let scen = std::fs::read_to_string("data/scenarios/ci-tiny.json")
+    let scen = std::fs::read_to_string("data/models/ci-tiny.json")
         .unwrap()
         .replace("../wheels/ns_intercity_920.json", "wheel.json");
     assert!(scen.contains(edit.0), "{}", edit.0);
     std::fs::write(dir.join("ci-tiny.json"), scen.replace(edit.0, edit.1)).unwrap();
-    let case = std::fs::read_to_string("data/scenarios/case3-ci.json").unwrap();
+    let case = std::fs::read_to_string("data/cases/case3-ci.json").unwrap();
     assert!(case.contains(case_edit.0), "{}", case_edit.0);
     std::fs::write(
         dir.join("case.json"),
@@ -413,7 +413,7 @@ fn gap_and_penalty_scale_are_refused_before_the_preload() {
 /// 130, the shell's code for an interrupted command), not with a half-relaxed start.
 #[test]
 fn stop_during_the_preload_is_an_interruption() {
-    let loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    let loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
     let dir = std::env::temp_dir().join(format!("squeal_rolling_stop_{}", std::process::id()));
     let stop = StopFlag::new();
     stop.request();
@@ -439,7 +439,7 @@ fn stop_during_the_preload_is_an_interruption() {
 /// histories as the uninterrupted 2 ms run (the engine is deterministic).
 #[test]
 fn resumed_run_matches_the_uninterrupted_one() {
-    let loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    let loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
     let base = std::env::temp_dir().join(format!("squeal_rolling_resume_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&base);
     let opts = |dir: &str, resume: bool, end: Option<f64>| SimulateOptions {
@@ -502,7 +502,7 @@ fn resumed_run_matches_the_uninterrupted_one() {
 /// sample.
 #[test]
 fn preloaded_wheel_carries_the_static_load() {
-    let mut loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    let mut loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
     loaded.case.preload.max_steps = 20_000;
     loaded.case.preload.damping_per_s = 450.0;
     loaded.case.preload.load_tolerance = 0.002;
@@ -533,7 +533,7 @@ fn preloaded_wheel_carries_the_static_load() {
 /// reached the traction bound within 5 ms.
 #[test]
 fn without_lateral_motion_the_creep_force_stays_longitudinal() {
-    let mut loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    let mut loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
     loaded.case.lateral_motion = None; // case 1
     loaded.case.torque.ramp_end_s = 0.001;
     let (_, dir) = run_in_temp(&loaded, "squeal_rolling_nolat", None);
@@ -567,7 +567,7 @@ fn without_lateral_motion_the_creep_force_stays_longitudinal() {
 /// curve against Kalker on the demo model is in docs/validation.md).
 #[test]
 fn prescribed_creepage_traces_a_saturating_creep_curve() {
-    let mut loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    let mut loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
     loaded.case.lateral_motion = None;
     loaded.case.torque.max_n_m = 0.0;
     loaded.case.end_time_s = 0.0095; // the 40-degree tread band lasts about 10 ms
@@ -634,7 +634,7 @@ fn track_centre_symmetry_removes_the_rigid_tilt_of_the_half_sleepers() {
     // Per run: (largest |u_y| of a sleeper top node, rigid-tilt prediction for it).
     let mut results = Vec::new();
     for symmetry in [false, true] {
-        let mut loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+        let mut loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
         loaded.case.track_centre_symmetry = symmetry;
         loaded.case.output.vtu_times_s = vec![0.0];
         loaded.case.output.patch_times_s.clear();
@@ -706,24 +706,47 @@ fn track_centre_symmetry_removes_the_rigid_tilt_of_the_half_sleepers() {
 }
 
 /// Every shipped case file loads and passes validation (a typo in a field name or a value out
-/// of range would otherwise surface only when someone runs that case).
+/// of range would otherwise surface only when someone runs that case), one kind of file per
+/// folder: data/cases holds only case files, data/models only model scenarios; a model
+/// scenario given as a case is refused naming the folders, and a case given where a model is
+/// needed stands for the model it names.
 #[test]
-fn shipped_case_files_are_valid() {
-    let mut count = 0;
-    for entry in std::fs::read_dir("data/scenarios").unwrap() {
+fn shipped_input_files_are_valid_and_each_in_its_folder() {
+    let mut cases = 0;
+    for entry in std::fs::read_dir("data/cases").unwrap() {
         let path = entry.unwrap().path();
         let name = path.file_name().unwrap().to_string_lossy().to_string();
-        // Case files name a model scenario; model scenarios hold meshes.
-        let text = std::fs::read_to_string(&path).unwrap();
-        if !text.contains("\"model_scenario\"") {
-            continue;
-        }
         load_case(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
-        count += 1;
+        cases += 1;
     }
     // case1..5-demo, case1..5-paper, case3-medium, case3-ci, creep-curve-demo, carter-demo,
     // static-hertz.
-    assert!(count >= 15, "{count} case files");
+    assert!(cases >= 15, "{cases} case files");
+    let mut models = 0;
+    for entry in std::fs::read_dir("data/models").unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        squeal::scenario::LoadedScenario::from_file(&path)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let Err(err) = load_case(&path) else {
+            panic!("{name}: a model scenario loaded as a case");
+        };
+        let err = err.to_string();
+        assert!(
+            err.contains("data/cases/") && err.contains("data/models/"),
+            "{err}"
+        );
+        models += 1;
+    }
+    assert!(models >= 6, "{models} model scenarios");
+    let via_case =
+        squeal::scenario::LoadedScenario::from_file(Path::new("data/cases/case3-ci.json")).unwrap();
+    let direct =
+        squeal::scenario::LoadedScenario::from_file(Path::new("data/models/ci-tiny.json")).unwrap();
+    assert_eq!(
+        via_case.model_mesh().nodes.len(),
+        direct.model_mesh().nodes.len()
+    );
 }
 
 /// The five demo cases (`squeal simulate --all-cases --out DIR`), either run here into a
@@ -735,7 +758,7 @@ fn demo_runs() -> std::path::PathBuf {
     }
     let dir = std::env::temp_dir().join(format!("squeal_demo_cases_{}", std::process::id()));
     for n in 1..=5 {
-        let loaded = load_case(Path::new(&format!("data/scenarios/case{n}-demo.json"))).unwrap();
+        let loaded = load_case(Path::new(&format!("data/cases/case{n}-demo.json"))).unwrap();
         let record = simulate(
             &loaded,
             &SimulateOptions {
@@ -866,7 +889,7 @@ fn demo_cases_reach_the_papers_operating_point() {
     assert!(lateral_share >= 0.95, "case 4 lateral share");
 }
 
-/// Static normal contact at 1 mm (`data/scenarios/static-hertz.json`, 251 k elements;
+/// Static normal contact at 1 mm (`data/cases/static-hertz.json`, 251 k elements;
 /// `cargo test --release --test rolling -- --ignored static`, about 25 minutes). Passed on
 /// 2026-11-23 with the wheel 28 mm to the field side (contact 2.6 mm from the rail centre, inside
 /// the crown's R300 arc) and the preload's load criterion: 45 400 preload steps, residual 8e-5,
@@ -883,7 +906,7 @@ fn demo_cases_reach_the_papers_operating_point() {
 fn static_patch_at_1mm_matches_hertz() {
     use squeal::kalker::hertz::HertzContact;
     use squeal::kalker::snapshot::PatchSnapshot;
-    let loaded = load_case(Path::new("data/scenarios/static-hertz.json")).unwrap();
+    let loaded = load_case(Path::new("data/cases/static-hertz.json")).unwrap();
     let (record, dir) = run_in_temp(&loaded, "squeal_static_hertz", None);
     let preload = record.preload.expect("preload");
     let snap: PatchSnapshot = serde_json::from_str(
@@ -955,7 +978,7 @@ fn static_patch_at_1mm_matches_hertz() {
 }
 
 /// Carter-like adhesion zone on the FE patch ("steady rolling with a prescribed
-/// longitudinal creepage"): `data/scenarios/carter-demo.json` holds the axle at the rolling speed
+/// longitudinal creepage"): `data/cases/carter-demo.json` holds the axle at the rolling speed
 /// and spins it at `V (1 + xi) / R` with xi rising 0.03 % per ms (the material crosses the patch
 /// in 0.6 ms: quasi-steady), and snapshots the patch every 3 ms. As the creep force ratio
 /// `r = F_x / (mu N)` grows:
@@ -977,7 +1000,7 @@ fn static_patch_at_1mm_matches_hertz() {
 #[ignore]
 fn adhesion_zone_sits_at_the_leading_edge_and_shrinks_with_creepage() {
     use squeal::kalker::snapshot::PatchSnapshot;
-    let loaded = load_case(Path::new("data/scenarios/carter-demo.json")).unwrap();
+    let loaded = load_case(Path::new("data/cases/carter-demo.json")).unwrap();
     let (record, dir) = run_in_temp(&loaded, "squeal_carter", None);
     assert_eq!(record.run.status, "completed");
     let mut files: Vec<_> = std::fs::read_dir(dir.join("patches"))
@@ -1092,7 +1115,7 @@ fn adhesion_zone_sits_at_the_leading_edge_and_shrinks_with_creepage() {
 /// contact with friction) gives byte-identical contact histories with 1 and 2 threads.
 #[test]
 fn contact_results_do_not_depend_on_the_thread_count() {
-    let loaded = load_case(Path::new("data/scenarios/case3-ci.json")).unwrap();
+    let loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
     let mut outputs = Vec::new();
     for threads in [1, 2] {
         let pool = rayon::ThreadPoolBuilder::new()

@@ -320,8 +320,7 @@ fn case3_track() -> (
     squeal::stability::rail::Track,
 ) {
     let loaded =
-        squeal::model::case::load_case(std::path::Path::new("data/scenarios/case3-demo.json"))
-            .unwrap();
+        squeal::model::case::load_case(std::path::Path::new("data/cases/case3-demo.json")).unwrap();
     let track = squeal::stability::rail::Track::from_case(&loaded).unwrap();
     (loaded, track)
 }
@@ -940,7 +939,7 @@ fn explicit_slider_on_a_falling_friction_belt_grows_at_the_predicted_rate() {
     );
 }
 
-/// The demo80 runs (`squeal simulate --scenario data/scenarios/caseN-demo80.json --out
+/// The demo80 runs (`squeal simulate --scenario data/cases/caseN-demo80.json --out
 /// DIR/caseN-demo80`, 80 ms on the demo80 meshes, 11-17 minutes each): read from the directory
 /// `SQUEAL_DEMO80_RUNS` names, else run here into a temporary directory.
 fn demo80_run(case: &str) -> std::path::PathBuf {
@@ -952,10 +951,9 @@ fn demo80_run(case: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir()
         .join(format!("squeal_demo80_{}", std::process::id()))
         .join(&name);
-    let loaded = squeal::model::case::load_case(std::path::Path::new(&format!(
-        "data/scenarios/{name}.json"
-    )))
-    .unwrap();
+    let loaded =
+        squeal::model::case::load_case(std::path::Path::new(&format!("data/cases/{name}.json")))
+            .unwrap();
     let record = simulate(
         &loaded,
         &SimulateOptions {
@@ -1013,7 +1011,7 @@ fn stability_against_the_explicit_demo80_runs() {
     let mut agreement = Vec::new();
     for case in ["case5", "case3"] {
         let loaded = squeal::model::case::load_case(std::path::Path::new(&format!(
-            "data/scenarios/{case}-demo80.json"
+            "data/cases/{case}-demo80.json"
         )))
         .unwrap();
         let model = StabilityModel::build(&loaded, Settings::default()).unwrap();

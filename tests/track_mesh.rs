@@ -6,7 +6,7 @@ use squeal::mesh::{material, Mesh};
 use squeal::scenario::LoadedScenario;
 
 fn medium_layout() -> TrackLayout {
-    LoadedScenario::from_file(std::path::Path::new("data/scenarios/medium.json"))
+    LoadedScenario::from_file(std::path::Path::new("data/models/medium.json"))
         .expect("medium")
         .track_layout()
 }
@@ -213,8 +213,8 @@ fn stations_keep_the_running_zone_at_its_medium_size() {
 
 #[test]
 fn model_mesh_places_the_wheel_on_the_rail() {
-    let loaded = LoadedScenario::from_file(std::path::Path::new("data/scenarios/medium.json"))
-        .expect("medium");
+    let loaded =
+        LoadedScenario::from_file(std::path::Path::new("data/models/medium.json")).expect("medium");
     let mesh = loaded.model_mesh();
     assert_eq!(mesh.quality(6000.0).inverted_elements, 0);
     // Closest wheel tread node to the rail is at the initial gap (0 mm): the lowest tread node

@@ -29,7 +29,7 @@ pub enum BenchWhat {
 /// Arguments of `squeal bench rolling`.
 #[derive(Args, Debug)]
 pub struct RollingBenchArgs {
-    /// Rolling case file (e.g. data/scenarios/case3-demo.json).
+    /// Rolling case file (e.g. data/cases/case3-demo.json).
     #[arg(long)]
     pub scenario: std::path::PathBuf,
     /// Steps timed per part, 1 to 1000000.
@@ -68,7 +68,7 @@ fn rolling(a: RollingBenchArgs) -> Result<()> {
 #[derive(Args, Debug)]
 pub struct StabilityBenchArgs {
     /// Rolling case whose wheel, track and case-file operating point are used.
-    #[arg(long, default_value = "data/scenarios/case3-demo.json")]
+    #[arg(long, default_value = "data/cases/case3-demo.json")]
     pub case: std::path::PathBuf,
     /// Wheel modal coordinates (3D modes: an n >= 1 pair counts twice).
     #[arg(long, default_value_t = 200)]

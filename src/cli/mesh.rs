@@ -15,7 +15,7 @@ use squeal::{Error, Result};
 #[derive(Args, Debug)]
 #[command(group(clap::ArgGroup::new("input").required(true).args(["scenario", "wheel"])))]
 pub struct MeshArgs {
-    /// Scenario file (wheel + track), e.g. data/scenarios/demo.json.
+    /// Scenario file (wheel + track), e.g. data/models/demo.json.
     #[arg(long)]
     pub scenario: Option<PathBuf>,
     /// Wheel file only (wheel and half axle), e.g. data/wheels/ns_intercity_920.json.

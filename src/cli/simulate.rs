@@ -7,23 +7,23 @@ use squeal::rolling::{load_case, simulate, SimulateOptions, StopFlag};
 use squeal::{Error, Result};
 
 /// The five cases of the paper (Yang & Li 2019) at a resolution: the case files
-/// `data/scenarios/case1-<resolution>.json` .. `case5-<resolution>.json`.
+/// `data/cases/case1-<resolution>.json` .. `case5-<resolution>.json`.
 pub fn all_cases(resolution: Resolution) -> Vec<String> {
     let tag = match resolution {
         Resolution::Demo => "demo",
         Resolution::Paper => "paper",
     };
     (1..=5)
-        .map(|n| format!("data/scenarios/case{n}-{tag}.json"))
+        .map(|n| format!("data/cases/case{n}-{tag}.json"))
         .collect()
 }
 
 /// Mesh resolution of `--all-cases`.
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 pub enum Resolution {
-    /// Demo meshes (data/scenarios/demo.json): a case in a few minutes on 2 cores.
+    /// Demo meshes (data/models/demo.json): a case in a few minutes on 2 cores.
     Demo,
-    /// The paper's 1 mm contact zone (data/scenarios/paper.json, 716 k elements): hours per
+    /// The paper's 1 mm contact zone (data/models/paper.json, 716 k elements): hours per
     /// case on 2 cores.
     Paper,
 }
@@ -31,10 +31,10 @@ pub enum Resolution {
 /// Arguments of `squeal simulate`.
 #[derive(Args, Debug)]
 pub struct SimulateArgs {
-    /// Case file, e.g. data/scenarios/case3-demo.json.
+    /// Case file, e.g. data/cases/case3-demo.json.
     #[arg(long, required_unless_present = "all_cases")]
     pub scenario: Option<PathBuf>,
-    /// Run the five cases (data/scenarios/case1-<resolution>.json .. case5-...), each into
+    /// Run the five cases (data/cases/case1-<resolution>.json .. case5-...), each into
     /// OUT/<case name>/.
     #[arg(long, conflicts_with = "scenario")]
     pub all_cases: bool,

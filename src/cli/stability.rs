@@ -31,7 +31,7 @@ pub enum ContactLaw {
 #[derive(Args, Debug)]
 pub struct StabilityArgs {
     /// Rolling case file (wheel, track, speed, load, friction law), e.g.
-    /// data/scenarios/case3-demo.json.
+    /// data/cases/case3-demo.json.
     #[arg(long)]
     pub case: PathBuf,
     /// Run directory of that case: take the operating point from its contact forces at --time-ms.

@@ -1,4 +1,4 @@
-//! A rolling case file (`data/scenarios/case*.json`): the model scenario it builds on (wheel +
+//! A rolling case file (`data/cases/case*.json`): the model scenario it builds on (wheel +
 //! track meshes), the track's discrete parts, the vehicle load, the rolling conditions, the
 //! friction law, and what to write. Every field is validated with its name and allowed range.
 
@@ -11,7 +11,6 @@ use serde::{Deserialize, Serialize};
 
 pub use super::lateral::{LateralMotion, LateralRamp, LateralTable};
 use crate::friction::FrictionLaw;
-use crate::input::read_json;
 use crate::scenario::LoadedScenario;
 use crate::{Error, Result};
 
@@ -408,19 +407,19 @@ impl RollingCase {
     }
 }
 
-/// The default-run case (`data/scenarios/case3-demo.json`), embedded.
-pub const EMBEDDED_DEFAULT_CASE: &str = include_str!("../../data/scenarios/case3-demo.json");
+/// The default-run case (`data/cases/case3-demo.json`), embedded.
+pub const EMBEDDED_DEFAULT_CASE: &str = include_str!("../../data/cases/case3-demo.json");
 
 /// The embedded default-run case: paper case 3 on the demo meshes (the model is the embedded
-/// default scenario, `data/scenarios/demo.json`).
+/// default scenario, `data/models/demo.json`).
 pub fn embedded_default_case() -> Result<LoadedCase> {
-    let source = "embedded default case (data/scenarios/case3-demo.json)";
+    let source = "embedded default case (data/cases/case3-demo.json)";
     let case: RollingCase = crate::input::parse_json(EMBEDDED_DEFAULT_CASE, source)?;
     case.validate(source)?;
     let scenario = LoadedScenario::from_texts(
         crate::scenario::EMBEDDED_DEMO_SCENARIO,
         crate::scenario::EMBEDDED_DEFAULT_WHEEL,
-        "embedded default scenario (data/scenarios/demo.json)",
+        "embedded default scenario (data/models/demo.json)",
     )?;
     Ok(LoadedCase {
         case,
@@ -432,7 +431,19 @@ pub fn embedded_default_case() -> Result<LoadedCase> {
 /// Reads and validates a case and the model scenario it names.
 pub fn load_case(path: &Path) -> Result<LoadedCase> {
     let source = path.display().to_string();
-    let case: RollingCase = read_json(path)?;
+    let text = crate::input::read_text(path)?;
+    // Which kind of file (a malformed one is reported by the typed parse below).
+    let value: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
+    if value.get("model_scenario").is_none() && value.get("wheel_file").is_some() {
+        return Err(Error::input(
+            &source,
+            "model_scenario",
+            "this is a model scenario (wheel and track meshes, data/models/), not a rolling \
+             case: give a case file (data/cases/) that names it in `model_scenario`; \
+             `squeal mesh --scenario` takes a model scenario as it is",
+        ));
+    }
+    let case: RollingCase = crate::input::parse_json(&text, &source)?;
     case.validate(&source)?;
     let scenario_path = path
         .parent()

@@ -1,7 +1,7 @@
 //! The operating point: normal force, creepages, friction, and where the contact sits, from a
 //! rolling case file or from a run directory at a time.
 //!
-//! * From a case (`data/scenarios/case*.json`): the static wheel load (sprung mass and the
+//! * From a case (`data/cases/case*.json`): the static wheel load (sprung mass and the
 //!   wheel with its half axle, times g), the contact point of S1002 on 54E1 at 1:40 for the
 //!   wheel's tape-circle position ([`crate::kalker::profiles::s1002_on_54e1`]: contact point,
 //!   Hertz curvatures; contact angle from the rail's slope there), the spin `-sin(d) / R`,
