@@ -439,7 +439,7 @@ pub fn load_case(path: &Path) -> Result<LoadedCase> {
             &source,
             "model_scenario",
             "this is a model scenario (wheel and track meshes, data/models/), not a rolling \
-             case: give a case file (data/cases/) that names it in `model_scenario`; \
+             case: expected a case file (data/cases/) that names it in `model_scenario`; \
              `squeal mesh --scenario` takes a model scenario as it is",
         ));
     }
