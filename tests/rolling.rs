@@ -232,7 +232,10 @@ const LATERAL_RAMP: &str = "{
 fn bad_case_files_name_the_field() {
     let dir = std::env::temp_dir().join(format!("squeal_rolling_bad_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let text = std::fs::read_to_string("data/cases/case3-ci.json").unwrap();
+    // Copied beside its model scenario in a temporary folder.
+    let text = std::fs::read_to_string("data/cases/case3-ci.json")
+        .unwrap()
+        .replace("../models/ci-tiny.json", "ci-tiny.json");
     let cases = [
         (
             "\"penalty_scale\": 0.1",
@@ -336,7 +339,10 @@ fn edited_tiny_case(
         .replace("../wheels/ns_intercity_920.json", "wheel.json");
     assert!(scen.contains(edit.0), "{}", edit.0);
     std::fs::write(dir.join("ci-tiny.json"), scen.replace(edit.0, edit.1)).unwrap();
-    let case = std::fs::read_to_string("data/cases/case3-ci.json").unwrap();
+    // Copied beside its model scenario in a temporary folder.
+    let case = std::fs::read_to_string("data/cases/case3-ci.json")
+        .unwrap()
+        .replace("../models/ci-tiny.json", "ci-tiny.json");
     assert!(case.contains(case_edit.0), "{}", case_edit.0);
     std::fs::write(
         dir.join("case.json"),
