@@ -55,20 +55,7 @@ pub(crate) fn gradients(x: &[P3; 8], xi: [f64; 3]) -> Option<([f64; 8], [[f64; 3
 
 /// The 6x24 strain-displacement matrix from physical gradients.
 pub fn b_matrix(g: &[[f64; 3]; 8]) -> [[f64; 24]; 6] {
-    let mut b = [[0.0; 24]; 6];
-    for a in 0..8 {
-        let c = 3 * a;
-        b[0][c] = g[a][0];
-        b[1][c + 1] = g[a][1];
-        b[2][c + 2] = g[a][2];
-        b[3][c] = g[a][1];
-        b[3][c + 1] = g[a][0];
-        b[4][c + 1] = g[a][2];
-        b[4][c + 2] = g[a][1];
-        b[5][c] = g[a][2];
-        b[5][c + 2] = g[a][0];
-    }
-    b
+    super::jacobian::b_matrix(g)
 }
 
 /// Stiffness and (consistent or row-sum lumped) mass of one element; `None` for an element with

@@ -72,3 +72,29 @@ pub fn volume_by_rule<const N: usize>(
         .map(|&(xi, w)| jacobian(x, &reference_gradients(xi)).1 * w)
         .sum()
 }
+
+/// The 6 x 3N strain-displacement matrix of N nodes from their physical gradients (Voigt xx,
+/// yy, zz, xy, yz, zx with engineering shears; dofs node-major `3 a + c`). `D` must be `3 N`
+/// (stable Rust cannot write `3 * N` as a const generic); checked on entry.
+pub fn b_matrix<const N: usize, const D: usize>(g: &[[f64; 3]; N]) -> [[f64; D]; 6] {
+    assert_eq!(
+        D,
+        3 * N,
+        "strain-displacement matrix of {N} nodes has {} columns",
+        3 * N
+    );
+    let mut b = [[0.0; D]; 6];
+    for (a, ga) in g.iter().enumerate() {
+        let c = 3 * a;
+        b[0][c] = ga[0];
+        b[1][c + 1] = ga[1];
+        b[2][c + 2] = ga[2];
+        b[3][c] = ga[1];
+        b[3][c + 1] = ga[0];
+        b[4][c + 1] = ga[2];
+        b[4][c + 2] = ga[1];
+        b[5][c] = ga[2];
+        b[5][c + 2] = ga[0];
+    }
+    b
+}

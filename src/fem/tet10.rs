@@ -142,20 +142,7 @@ fn gradients(x: &[P3; 10], xi: [f64; 3]) -> Option<([f64; 10], [[f64; 3]; 10], f
 
 /// The 6x30 strain-displacement matrix (Voigt xx, yy, zz, xy, yz, zx; engineering shears).
 pub fn b_matrix(g: &[[f64; 3]; 10]) -> [[f64; DOFS]; 6] {
-    let mut b = [[0.0; DOFS]; 6];
-    for a in 0..10 {
-        let c = 3 * a;
-        b[0][c] = g[a][0];
-        b[1][c + 1] = g[a][1];
-        b[2][c + 2] = g[a][2];
-        b[3][c] = g[a][1];
-        b[3][c + 1] = g[a][0];
-        b[4][c + 1] = g[a][2];
-        b[4][c + 2] = g[a][1];
-        b[5][c] = g[a][2];
-        b[5][c + 2] = g[a][0];
-    }
-    b
+    super::jacobian::b_matrix(g)
 }
 
 /// Stiffness and (consistent or HRZ-lumped) mass of one element; `None` for a non-positive

@@ -70,20 +70,8 @@ pub fn gradients(x: &[P3; 4]) -> Option<[[f64; 3]; 4]> {
 pub fn element_matrices(x: &[P3; 4], mat: &ElasticMaterial, lumped: bool) -> Option<Tet4Matrices> {
     let g = gradients(x)?;
     let v = volume(x);
-    // B (6 x 12), Voigt xx, yy, zz, xy, yz, zx with engineering shears (as tet10::b_matrix).
-    let mut b = [[0.0; DOFS]; 6];
-    for a in 0..4 {
-        let c = 3 * a;
-        b[0][c] = g[a][0];
-        b[1][c + 1] = g[a][1];
-        b[2][c + 2] = g[a][2];
-        b[3][c] = g[a][1];
-        b[3][c + 1] = g[a][0];
-        b[4][c + 1] = g[a][2];
-        b[4][c + 2] = g[a][1];
-        b[5][c] = g[a][2];
-        b[5][c + 2] = g[a][0];
-    }
+    // B (6 x 12), Voigt xx, yy, zz, xy, yz, zx with engineering shears.
+    let b: [[f64; DOFS]; 6] = super::jacobian::b_matrix(&g);
     let d = mat.d_matrix();
     let mut k = [[0.0; DOFS]; DOFS];
     for i in 0..DOFS {
