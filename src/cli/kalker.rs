@@ -9,6 +9,7 @@ use squeal::kalker::{
     solve_force_prescribed, Creepages, HertzContact, Material, Method, RollingContactSolution,
     RollingSolver,
 };
+use squeal::output::{Commit, StagedDir};
 use squeal::{Error, Result};
 use std::path::PathBuf;
 
@@ -304,8 +305,10 @@ fn finish(
 ) -> Result<()> {
     let text = serde_json::to_string_pretty(summary).unwrap_or_default();
     println!("{text}");
-    if let Some(directory) = out {
-        std::fs::create_dir_all(directory).map_err(|e| Error::io(directory, e))?;
+    if let Some(out) = out {
+        // Written beside the output folder and moved into it when complete.
+        let stage = StagedDir::new(out)?;
+        let directory = stage.path();
         let csv_path = directory.join("traction.csv");
         let mut writer = csv::Writer::from_path(&csv_path)
             .map_err(|e| Error::io(&csv_path, std::io::Error::other(e)))?;
@@ -326,8 +329,10 @@ fn finish(
                 .map_err(csv_error)?;
         }
         writer.flush().map_err(|e| Error::io(&csv_path, e))?;
+        drop(writer);
         let summary_path = directory.join("summary.json");
         std::fs::write(&summary_path, text + "\n").map_err(|e| Error::io(&summary_path, e))?;
+        stage.commit(Commit::Merge)?;
     }
     Ok(())
 }
@@ -407,8 +412,8 @@ fn run_compare(args: CompareArgs) -> Result<()> {
         .iter()
         .map(|p| p.pressure_pa)
         .fold(0.0, f64::max);
-    std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
-    squeal::report::kalker_charts::write_comparison_charts(&snapshot, &cmp, &args.out)?;
+    let stage = StagedDir::new(&args.out)?;
+    squeal::report::kalker_charts::write_comparison_charts(&snapshot, &cmp, stage.path())?;
     let summary = json!({
         "time_s": snapshot.time_s,
         "xi": cmp.kalker.creepages.xi,
@@ -427,12 +432,13 @@ fn run_compare(args: CompareArgs) -> Result<()> {
         "fe_adhesion_fraction": cmp.fe_adhesion_fraction,
         "kalker_adhesion_fraction": cmp.kalker_adhesion_fraction,
     });
-    let path = args.out.join("comparison.json");
+    let path = stage.path().join("comparison.json");
     std::fs::write(
         &path,
         serde_json::to_string_pretty(&summary).unwrap_or_default(),
     )
     .map_err(|e| Error::io(&path, e))?;
+    stage.commit(Commit::Merge)?;
     println!(
         "{}",
         serde_json::to_string_pretty(&summary).unwrap_or_default()

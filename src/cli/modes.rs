@@ -2,7 +2,9 @@
 //! `--hex8`; shift-invert Lanczos), mode classification, modes.json / modes.csv / modes.vtu,
 //! optional hammer-test comparison and Matrix Market export of K and M.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+use squeal::output::{Commit, StagedDir};
 
 use clap::{Args, ValueEnum};
 use squeal::fem::assembly::write_matrix_market;
@@ -175,9 +177,18 @@ pub fn run(args: ModesArgs) -> Result<()> {
     }
     let run = solve_and_classify(&model, args.fmax_hz, args.slices)?;
     print_solution(&args, &run.solution);
-    write_outputs(&args, &run.solution, &run.shapes, &run.records, |fields| {
-        model.write_vtu(&args.out.join("modes.vtu"), fields)
-    })
+    // Written beside the output folder and moved into it when complete.
+    let stage = StagedDir::new(&args.out)?;
+    write_outputs(
+        &args,
+        stage.path(),
+        &run.solution,
+        &run.shapes,
+        &run.records,
+        |dir, fields| model.write_vtu(&dir.join("modes.vtu"), fields),
+    )?;
+    stage.commit(Commit::Merge)?;
+    Ok(())
 }
 
 /// Reads and checks a wheel file, with `--element-size-mm` applied.
@@ -284,17 +295,17 @@ fn positive(v: Option<f64>, default: f64, name: &str, max: f64) -> Result<f64> {
 
 fn write_outputs(
     args: &ModesArgs,
+    dir: &Path,
     sol: &ModalSolution,
     shapes: &Shapes,
     records: &[ModeRecord],
-    write_vtu: impl FnOnce(&[vtu::PointVectorField]) -> Result<()>,
+    write_vtu: impl FnOnce(&Path, &[vtu::PointVectorField]) -> Result<()>,
 ) -> Result<()> {
-    std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
     let refs: Vec<_> = records.iter().map(|r| r.mode_ref()).collect();
     let json = serde_json::to_string_pretty(&refs).expect("serialisable");
-    let p = args.out.join("modes.json");
+    let p = dir.join("modes.json");
     std::fs::write(&p, json).map_err(|e| Error::io(&p, e))?;
-    let p = args.out.join("modes_detail.json");
+    let p = dir.join("modes_detail.json");
     let json = serde_json::to_string_pretty(&records).expect("serialisable");
     std::fs::write(&p, json).map_err(|e| Error::io(&p, e))?;
     let mut csv = String::from(
@@ -332,7 +343,7 @@ fn write_outputs(
             if r.is_pair { "yes" } else { "" }
         );
     }
-    let p = args.out.join("modes.csv");
+    let p = dir.join("modes.csv");
     std::fs::write(&p, csv).map_err(|e| Error::io(&p, e))?;
     let names: Vec<String> = sol
         .modes
@@ -348,14 +359,14 @@ fn write_outputs(
             values: &s.3,
         })
         .collect();
-    write_vtu(&fields)?;
+    write_vtu(dir, &fields)?;
     let mut measured_modes = None;
     if let Some(h) = &args.hammer {
         let measured = squeal::modal::hammer::read_hammer_csv(h)?;
         let cmp = squeal::modal::hammer::compare(&measured, &refs);
-        let p = args.out.join("comparison.md");
+        let p = dir.join("comparison.md");
         std::fs::write(&p, cmp.to_markdown()).map_err(|e| Error::io(&p, e))?;
-        let p = args.out.join("comparison.csv");
+        let p = dir.join("comparison.csv");
         std::fs::write(&p, cmp.to_csv()).map_err(|e| Error::io(&p, e))?;
         println!("{}", cmp.to_markdown());
         measured_modes = Some(measured);
@@ -364,8 +375,8 @@ fn write_outputs(
     squeal::report::modal_chart::write_modal_chart(
         &refs,
         measured_modes.as_deref(),
-        Some(&args.out.join("modal_chart.png")),
-        Some(&args.out.join("modal_chart.svg")),
+        Some(&dir.join("modal_chart.png")),
+        Some(&dir.join("modal_chart.svg")),
     )?;
     println!("wrote {}", args.out.display());
     Ok(())
