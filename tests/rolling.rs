@@ -64,6 +64,20 @@ fn tiny_case_runs_and_keeps_the_contact_invariants() {
     assert_eq!(series.len(), 1);
     assert!((series[0].0 - 2e-3).abs() < 1e-12);
     assert_eq!(series[0].1, "snapshot_0002000.0us.vtu");
+    // The snapshot carries the contact force on each node: its vertical total is the normal
+    // load of the contact history. The history's last row is one 20 us sample before the
+    // 2 ms snapshot and the load rises by about 1 kN per sample here, so the two must agree
+    // within twice the last sample-to-sample change.
+    let snap = squeal::mesh::vtu::read(&dir.join("snapshot_0002000.0us.vtu")).unwrap();
+    let contact = &snap.point_data["contact_force_n"];
+    let total_z: f64 = contact.chunks(3).map(|f| f[2]).sum();
+    let forces_csv = Table::read(&dir.join("contact_forces.csv")).unwrap();
+    let vertical = forces_csv.column("vertical_force_n").unwrap();
+    let (previous, last) = (vertical[vertical.len() - 2], vertical[vertical.len() - 1]);
+    assert!(
+        (total_z.abs() - last.abs()).abs() <= 2.0 * (last - previous).abs(),
+        "snapshot contact force {total_z} N against {last} N (previous sample {previous} N)"
+    );
     let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
     // The patch snapshot's contact normal is the one in the force history: the normal force's
     // lateral part, total lateral force less its friction part, over the normal force.

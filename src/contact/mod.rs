@@ -781,6 +781,21 @@ impl ContactPair {
 }
 
 impl AuxForces for ContactPair {
+    /// `contact_force_n`: the force on each slave node from the last step, normal
+    /// (`f_N n`, n out of the master) plus tangential; zero elsewhere. Over the patch it is the
+    /// contact pressure times each node's share of the area.
+    fn snapshot_fields(&self, node_count: usize) -> Vec<(String, Vec<P3>)> {
+        let mut force = vec![[0.0; 3]; node_count];
+        for (s, &node) in self.state.iter().zip(&self.slaves) {
+            if node < node_count && s.active {
+                for d in 0..3 {
+                    force[node][d] = s.normal_force_n * s.normal[d] + s.tangential_force_n[d];
+                }
+            }
+        }
+        vec![("contact_force_n".to_string(), force)]
+    }
+
     fn add_forces(&mut self, _time_s: f64, dt_s: f64, u: &[P3], v: &[P3], force: &mut [P3]) {
         if self.needs_rebuild(u) {
             // Rare (when nodes moved half a face): allocation here is outside the steady loop.

@@ -30,6 +30,11 @@ pub trait AuxForces {
     ) -> Result<()> {
         Ok(())
     }
+    /// Point vector fields this module adds to the VTU snapshots, one value per node of a mesh
+    /// of `node_count` nodes (e.g. the contact force on each node). Called at snapshots only.
+    fn snapshot_fields(&self, _node_count: usize) -> Vec<(String, Vec<P3>)> {
+        Vec::new()
+    }
     /// State to keep in checkpoints (e.g. tangential contact forces).
     fn checkpoint_state(&self) -> Vec<f64> {
         Vec::new()

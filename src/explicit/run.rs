@@ -332,7 +332,8 @@ pub fn run<A: AuxForces + ?Sized>(
         while next_snapshot < snapshots.len()
             && snapshots[next_snapshot] <= solver.time_s + 0.5 * solver.dt_s
         {
-            write_snapshot(solver, &opts.out_dir, snapshots[next_snapshot])?;
+            let extra = aux.snapshot_fields(solver.model.mesh.nodes.len());
+            write_snapshot(solver, &opts.out_dir, snapshots[next_snapshot], &extra)?;
             next_snapshot += 1;
         }
         if opts.checkpoint_every_steps > 0 && (k + 1) % opts.checkpoint_every_steps == 0 {
@@ -397,24 +398,33 @@ pub(crate) fn push_num(s: &mut String, x: f64) {
     let _ = write!(s, "{x:.9e}");
 }
 
-/// Writes `snapshot_<time in us>.vtu` with the displacement and velocity fields.
-pub fn write_snapshot(solver: &Solver, dir: &Path, time_s: f64) -> Result<PathBuf> {
+/// Writes `snapshot_<time in us>.vtu` with the displacement and velocity fields and the
+/// `extra` point vector fields (e.g. the contact force per node).
+pub fn write_snapshot(
+    solver: &Solver,
+    dir: &Path,
+    time_s: f64,
+    extra: &[(String, Vec<P3>)],
+) -> Result<PathBuf> {
     let path = dir.join(format!("snapshot_{:09.1}us.vtu", time_s * 1e6));
     let n = solver.model.mesh.nodes.len();
-    vtu::write(
-        &solver.model.mesh,
-        &path,
-        &[
-            PointVectorField {
-                name: "displacement_m".into(),
-                values: &solver.u[..n],
-            },
-            PointVectorField {
-                name: "velocity_m_per_s".into(),
-                values: &solver.v[..n],
-            },
-        ],
-    )?;
+    let mut fields = vec![
+        PointVectorField {
+            name: "displacement_m".into(),
+            values: &solver.u[..n],
+        },
+        PointVectorField {
+            name: "velocity_m_per_s".into(),
+            values: &solver.v[..n],
+        },
+    ];
+    for (name, values) in extra {
+        fields.push(PointVectorField {
+            name: name.clone(),
+            values: &values[..n.min(values.len())],
+        });
+    }
+    vtu::write(&solver.model.mesh, &path, &fields)?;
     write_snapshot_collection(dir)?;
     Ok(path)
 }

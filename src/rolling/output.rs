@@ -284,6 +284,10 @@ impl AuxForces for RollingContact {
         self.write_forces(time_s)
     }
 
+    fn snapshot_fields(&self, node_count: usize) -> Vec<(String, Vec<P3>)> {
+        self.pair.snapshot_fields(node_count)
+    }
+
     fn history_columns(&self) -> Vec<String> {
         VIBRATION_COLUMNS
             .iter()
