@@ -28,6 +28,15 @@ pub fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T> {
     parse_json(&text, &path.display().to_string())
 }
 
+/// The text of a JSON input file and its untyped value, to tell which kind of file it is
+/// before the typed parse (a malformed file gives `Null` here; the typed parse of the text
+/// then reports it with its line and field).
+pub fn read_json_kind(path: &Path) -> Result<(String, serde_json::Value)> {
+    let text = read_text(path)?;
+    let value = serde_json::from_str(&text).unwrap_or_default();
+    Ok((text, value))
+}
+
 /// The text of an input file; a path that names no file is an input error (exit 2).
 pub fn read_text(path: &Path) -> Result<String> {
     std::fs::read_to_string(path).map_err(|e| {

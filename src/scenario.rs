@@ -176,13 +176,10 @@ impl LoadedScenario {
     /// its place: it names its model scenario (`model_scenario`), which is loaded.
     pub fn from_file(path: &Path) -> Result<Self> {
         let source_name = path.display().to_string();
-        let text = crate::input::read_text(path)?;
-        // Which kind of file (a malformed one is reported by the typed parse below).
-        let value: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
+        let (text, value) = crate::input::read_json_kind(path)?;
         if let Some(model) = value.get("model_scenario").and_then(|m| m.as_str()) {
             let model_path = path.parent().unwrap_or(Path::new(".")).join(model);
-            let model_value: serde_json::Value =
-                serde_json::from_str(&crate::input::read_text(&model_path)?).unwrap_or_default();
+            let (_, model_value) = crate::input::read_json_kind(&model_path)?;
             if model_value.get("model_scenario").is_some() {
                 return Err(Error::input(
                     &source_name,

@@ -33,22 +33,28 @@ fn assert_bad_input(out: &Output, needles: &[&str]) {
 #[test]
 fn writes_modes_json_and_csv() {
     let dir = temp_dir("ok");
-    let out = run(&[
-        "axisym",
-        "--wheel",
-        WHEEL,
-        "--harmonics",
-        "2..4",
-        "--fmax-hz",
-        "3000",
-        "--element-size-mm",
-        "20",
-        "--without-axle",
-        "--clamp",
-        "hub-bore",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
+    // A coarse hub-clamped wheel without axle, harmonics 2-4 below 3 kHz; `extra` appended.
+    let coarse = |extra: &[&str]| {
+        let mut args = vec![
+            "axisym",
+            "--wheel",
+            WHEEL,
+            "--harmonics",
+            "2..4",
+            "--fmax-hz",
+            "3000",
+            "--element-size-mm",
+            "20",
+            "--without-axle",
+            "--clamp",
+            "hub-bore",
+            "--out",
+            dir.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        run(&args)
+    };
+    let out = coarse(&[]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),
@@ -75,24 +81,7 @@ fn writes_modes_json_and_csv() {
         svg.contains("Axial m=0, FE") && !svg.contains("measured"),
         "FE series"
     );
-    let with_test = run(&[
-        "axisym",
-        "--wheel",
-        WHEEL,
-        "--harmonics",
-        "2..4",
-        "--fmax-hz",
-        "3000",
-        "--element-size-mm",
-        "20",
-        "--without-axle",
-        "--clamp",
-        "hub-bore",
-        "--hammer",
-        "data/hammer/synthetic_example.csv",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
+    let with_test = coarse(&["--hammer", "data/hammer/synthetic_example.csv"]);
     assert!(with_test.status.success());
     let svg = std::fs::read_to_string(dir.join("modal_chart.svg")).unwrap();
     assert!(svg.contains("measured"), "measured series");

@@ -431,9 +431,7 @@ pub fn embedded_default_case() -> Result<LoadedCase> {
 /// Reads and validates a case and the model scenario it names.
 pub fn load_case(path: &Path) -> Result<LoadedCase> {
     let source = path.display().to_string();
-    let text = crate::input::read_text(path)?;
-    // Which kind of file (a malformed one is reported by the typed parse below).
-    let value: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
+    let (text, value) = crate::input::read_json_kind(path)?;
     if value.get("model_scenario").is_none() && value.get("wheel_file").is_some() {
         return Err(Error::input(
             &source,
