@@ -25,7 +25,7 @@ use serde::Serialize;
 use crate::identify::{identify, Direction, ModeRef, PeakIdentification, Tolerance};
 use crate::input::read_json;
 use crate::signal::resolution::{describe, welch_for_resolution};
-use crate::signal::{find_spectral_peaks, welch, PeakSearch, Psd, TimeSeries};
+use crate::signal::{welch, PeakSearch, Psd, TimeSeries};
 use crate::{Error, Result};
 
 /// Options of a run analysis.
@@ -243,7 +243,7 @@ pub fn analyse_run(run_dir: &Path, options: &AnalysisOptions) -> Result<RunAnaly
         max_peaks: options.peaks,
         ..Default::default()
     };
-    let peaks = find_spectral_peaks(&psd.frequency_hz, &psd.psd_per_hz, &search)?;
+    let peaks = psd.find_peaks(&search)?;
     let modes_path = options
         .modes_file
         .clone()
@@ -292,9 +292,9 @@ pub fn rim_ratio(point: &Psd, mean: &Psd, f_hz: f64) -> f64 {
     let df = point.frequency_resolution_hz;
     let k = (f_hz / df).round().max(0.0) as usize;
     let last = point.psd_per_hz.len().saturating_sub(1);
-    let range = k.saturating_sub(1).min(last)..=(k + 1).min(last);
-    let num: f64 = mean.psd_per_hz[range.clone()].iter().sum();
-    let den: f64 = point.psd_per_hz[range].iter().sum();
+    let band = ndarray::s![k.saturating_sub(1).min(last)..=(k + 1).min(last)];
+    let num: f64 = mean.psd_per_hz.slice(band).sum();
+    let den: f64 = point.psd_per_hz.slice(band).sum();
     if den > 0.0 {
         num / den
     } else {

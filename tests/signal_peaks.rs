@@ -4,7 +4,7 @@
 use std::f64::consts::PI;
 
 use squeal::signal::peaks::{local_maxima, peak_prominences, select_by_distance};
-use squeal::signal::{find_spectral_peaks, welch, PeakRanking, PeakSearch, WelchParams};
+use squeal::signal::{welch, PeakRanking, PeakSearch, WelchParams};
 
 fn floats(value: &serde_json::Value) -> Vec<f64> {
     value
@@ -85,7 +85,7 @@ fn tone_between_bins_is_refined_to_a_tenth_of_a_bin() {
             max_peaks: 1,
             ..PeakSearch::default()
         };
-        let peak = find_spectral_peaks(&psd.frequency_hz, &psd.psd_per_hz, &search).unwrap()[0];
+        let peak = psd.find_peaks(&search).unwrap()[0];
         let error_bins = (peak.refined_frequency_hz - tone_hz).abs() / psd.frequency_resolution_hz;
         worst_bins = worst_bins.max(error_bins);
         assert!(
@@ -121,7 +121,7 @@ fn dominant_peaks_band_and_separation() {
         .collect();
     let psd = welch(&x, sample_rate_hz, &WelchParams::new(2048)).unwrap();
     let found = |search: PeakSearch| -> Vec<f64> {
-        find_spectral_peaks(&psd.frequency_hz, &psd.psd_per_hz, &search)
+        psd.find_peaks(&search)
             .unwrap()
             .iter()
             .map(|p| p.refined_frequency_hz)

@@ -3,7 +3,7 @@
 use std::f64::consts::PI;
 
 use squeal::signal::wav::{read_pcm16_wav, write_wav, PEAK_FRACTION_OF_FULL_SCALE};
-use squeal::signal::{find_spectral_peaks, welch, PeakSearch, WelchParams};
+use squeal::signal::{welch, PeakSearch, WelchParams};
 
 #[test]
 fn resampled_tone_reads_back_with_its_header_level_and_frequency() {
@@ -40,7 +40,7 @@ fn resampled_tone_reads_back_with_its_header_level_and_frequency() {
         max_peaks: 1,
         ..PeakSearch::default()
     };
-    let found = find_spectral_peaks(&psd.frequency_hz, &psd.psd_per_hz, &search).unwrap()[0];
+    let found = psd.find_peaks(&search).unwrap()[0];
     println!(
         "WAV tone: zero crossings {crossing_hz:.2} Hz, spectral peak {:.3} Hz (true {tone_hz})",
         found.refined_frequency_hz

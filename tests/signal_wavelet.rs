@@ -67,12 +67,16 @@ fn fft_cwt_equals_direct_summation() {
         &Scales::Frequencies(vec![20.0, 37.0, 95.0, 150.0, 210.0]),
     )
     .unwrap();
+    // The power is an Array2 of time x frequency, with the scale and frequency axes beside it.
+    assert_eq!(cwt.power.dim(), (x.len(), 5));
+    assert_eq!((cwt.scale_s.len(), cwt.frequency_hz.len()), (5, 5));
+    assert_eq!(cwt.coi_period_s.len(), x.len());
     let max_power = cwt.power.iter().cloned().fold(0.0, f64::max);
     let mut worst = 0.0f64;
     for (j, &s) in cwt.scale_s.iter().enumerate() {
         let mut worst_here = 0.0f64;
         for n in 0..x.len() {
-            let error = (cwt.power_at(n, j) - direct_power(&centred, dt, s, n)).abs() / max_power;
+            let error = (cwt.power[[n, j]] - direct_power(&centred, dt, s, n)).abs() / max_power;
             worst_here = worst_here.max(error);
         }
         println!("  {} Hz: {worst_here:.3e}", cwt.frequency_hz[j]);

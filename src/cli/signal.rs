@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use squeal::output::{write_file_staged, Commit, StagedDir};
 use squeal::signal::{
-    find_spectral_peaks, morlet_cwt, series::TimeSeries, wav::write_wav, welch, Detrend,
-    PeakRanking, PeakSearch, PsdScaling, Scales, WelchParams, Window,
+    morlet_cwt, series::TimeSeries, wav::write_wav, welch, Detrend, PeakRanking, PeakSearch,
+    PsdScaling, Scales, WelchParams, Window,
 };
 use squeal::{Error, Result};
 
@@ -221,7 +221,7 @@ pub fn run_psd(args: PsdArgs) -> Result<()> {
         max_peaks: args.peaks,
         ranking,
     };
-    let peaks = find_spectral_peaks(&psd.frequency_hz, &psd.psd_per_hz, &search)?;
+    let peaks = psd.find_peaks(&search)?;
 
     // Written beside the output folder and moved into it when complete.
     let stage = StagedDir::new(&args.out)?;

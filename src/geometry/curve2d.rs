@@ -2,24 +2,30 @@
 //! sections, plus the fillet constructions (circle tangent to two curves) the 54E1 drawing uses.
 //! Coordinates are `[horizontal, vertical]` in whatever unit the caller uses (mm for profiles).
 
-/// A point or vector in the plane.
+use nalgebra::Vector2;
+
+/// A point or vector in the plane, as stored in sections and meshes.
 pub type P2 = [f64; 2];
 
-fn sub(a: P2, b: P2) -> P2 {
-    [a[0] - b[0], a[1] - b[1]]
+/// The constructions below compute with nalgebra's `Vector2`; `P2` is converted at the
+/// boundary (both are two contiguous `f64`, so the conversion is free).
+fn vector(p: P2) -> Vector2<f64> {
+    Vector2::from(p)
 }
-fn add(a: P2, b: P2) -> P2 {
-    [a[0] + b[0], a[1] + b[1]]
+
+/// Euclidean length, by `hypot` (no overflow or underflow in the squares).
+fn length(v: Vector2<f64>) -> f64 {
+    v.x.hypot(v.y)
 }
-fn scale(a: P2, s: f64) -> P2 {
-    [a[0] * s, a[1] * s]
+
+/// `v` scaled to unit length.
+fn unit(v: Vector2<f64>) -> Vector2<f64> {
+    v * (1.0 / length(v))
 }
+
 /// Euclidean length.
 pub fn norm(a: P2) -> f64 {
-    a[0].hypot(a[1])
-}
-fn unit(a: P2) -> P2 {
-    scale(a, 1.0 / norm(a))
+    length(vector(a))
 }
 
 /// An infinite line through `point` with unit `direction`.
@@ -36,7 +42,7 @@ impl Line {
     pub fn through_with_slope(point: P2, run: f64, rise: f64) -> Self {
         Line {
             point,
-            direction: unit([run, rise]),
+            direction: unit(Vector2::new(run, rise)).into(),
         }
     }
     /// Unit normal to the left of the direction.
@@ -46,70 +52,73 @@ impl Line {
     /// The line moved by `distance` along its left normal (negative: to the right).
     pub fn offset(&self, distance: f64) -> Line {
         Line {
-            point: add(self.point, scale(self.left_normal(), distance)),
+            point: (vector(self.point) + vector(self.left_normal()) * distance).into(),
             direction: self.direction,
         }
     }
     /// Orthogonal projection of `p` on the line.
     pub fn project(&self, p: P2) -> P2 {
-        let t =
-            (p[0] - self.point[0]) * self.direction[0] + (p[1] - self.point[1]) * self.direction[1];
-        add(self.point, scale(self.direction, t))
+        let direction = vector(self.direction);
+        let t = (vector(p) - vector(self.point)).dot(&direction);
+        (vector(self.point) + direction * t).into()
     }
     /// Intersection with another line (None if parallel).
     pub fn intersect(&self, other: &Line) -> Option<P2> {
-        let d = self.direction[0] * other.direction[1] - self.direction[1] * other.direction[0];
+        let (direction, other_direction) = (vector(self.direction), vector(other.direction));
+        let d = direction.perp(&other_direction);
         if d.abs() < 1e-14 {
             return None;
         }
-        let w = sub(other.point, self.point);
-        let t = (w[0] * other.direction[1] - w[1] * other.direction[0]) / d;
-        Some(add(self.point, scale(self.direction, t)))
+        let w = vector(other.point) - vector(self.point);
+        let t = w.perp(&other_direction) / d;
+        Some((vector(self.point) + direction * t).into())
     }
     /// Intersections with a circle (0, 1 or 2 points).
     pub fn intersect_circle(&self, centre: P2, radius: f64) -> Vec<P2> {
-        let w = sub(self.point, centre);
-        let b = w[0] * self.direction[0] + w[1] * self.direction[1];
-        let c = w[0] * w[0] + w[1] * w[1] - radius * radius;
+        let (point, direction) = (vector(self.point), vector(self.direction));
+        let w = point - vector(centre);
+        let b = w.dot(&direction);
+        let c = w.norm_squared() - radius * radius;
         let disc = b * b - c;
         if disc < 0.0 {
             return vec![];
         }
         let root = disc.sqrt();
         vec![
-            add(self.point, scale(self.direction, -b - root)),
-            add(self.point, scale(self.direction, -b + root)),
+            (point + direction * (-b - root)).into(),
+            (point + direction * (-b + root)).into(),
         ]
     }
 }
 
 /// Intersections of two circles.
 pub fn circle_circle(c1: P2, r1: f64, c2: P2, r2: f64) -> Vec<P2> {
-    let d_vec = sub(c2, c1);
-    let d = norm(d_vec);
+    let d_vec = vector(c2) - vector(c1);
+    let d = length(d_vec);
     if d < 1e-14 || d > r1 + r2 || d < (r1 - r2).abs() {
         return vec![];
     }
     let a = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
     let h = (r1 * r1 - a * a).max(0.0).sqrt();
-    let e = scale(d_vec, 1.0 / d);
-    let mid = add(c1, scale(e, a));
-    let perp = [-e[1], e[0]];
-    vec![add(mid, scale(perp, h)), add(mid, scale(perp, -h))]
+    let e = d_vec * (1.0 / d);
+    let mid = vector(c1) + e * a;
+    let perp = Vector2::new(-e.y, e.x);
+    vec![(mid + perp * h).into(), (mid - perp * h).into()]
 }
 
 /// The candidate nearest to `near`.
 pub fn nearest(candidates: &[P2], near: P2) -> Option<P2> {
-    candidates
-        .iter()
-        .copied()
-        .min_by(|a, b| norm(sub(*a, near)).total_cmp(&norm(sub(*b, near))))
+    candidates.iter().copied().min_by(|a, b| {
+        let distance = |p: &P2| length(vector(*p) - vector(near));
+        distance(a).total_cmp(&distance(b))
+    })
 }
 
 /// Point where a circle centred at `centre_from` touches a circle centred at `centre_to` of
 /// radius `radius_to` (tangency lies on the line of centres).
 pub fn tangent_point_on_circle(centre_to: P2, radius_to: f64, towards: P2) -> P2 {
-    add(centre_to, scale(unit(sub(towards, centre_to)), radius_to))
+    let centre = vector(centre_to);
+    (centre + unit(vector(towards) - centre) * radius_to).into()
 }
 
 /// One piece of a section outline.
@@ -143,7 +152,7 @@ impl Segment {
     pub fn arc(centre: P2, start: P2, end: P2, ccw: bool) -> Self {
         Segment::Arc {
             centre,
-            radius: norm(sub(start, centre)),
+            radius: length(vector(start) - vector(centre)),
             start,
             end,
             ccw,
@@ -179,7 +188,7 @@ impl Segment {
     /// Length of the segment.
     pub fn length(&self) -> f64 {
         match self {
-            Segment::Line { start, end } => norm(sub(*end, *start)),
+            Segment::Line { start, end } => length(vector(*end) - vector(*start)),
             Segment::Arc { radius, .. } => {
                 let (a0, a1) = self.arc_angles().unwrap_or((0.0, 0.0));
                 radius * (a1 - a0).abs()
@@ -190,7 +199,9 @@ impl Segment {
     /// Point at fraction `t` in [0, 1] of the length.
     pub fn point_at(&self, t: f64) -> P2 {
         match self {
-            Segment::Line { start, end } => add(*start, scale(sub(*end, *start), t)),
+            Segment::Line { start, end } => {
+                (vector(*start) + (vector(*end) - vector(*start)) * t).into()
+            }
             Segment::Arc { centre, radius, .. } => {
                 let (a0, a1) = self.arc_angles().unwrap_or((0.0, 0.0));
                 let a = a0 + t * (a1 - a0);

@@ -30,6 +30,7 @@
 use super::halfspace::{tangential_influence, Convolver, Grid, OffsetKernel};
 use super::Material;
 use crate::{Error, Result};
+use nalgebra::{Rotation2, Vector2};
 use rustfft::num_complex::Complex;
 
 /// Creepages (rigid slip per unit rolled distance).
@@ -213,14 +214,15 @@ impl TangentialSolver {
                 }
             })
             .collect();
-        let mut slip_direction = vec![[0.0_f64; 2]; n];
+        // Unit slip direction n of each slip element (the traction is -g n on a slip element).
+        let mut slip_direction = vec![Vector2::<f64>::zeros(); n];
         for k in 0..n {
             if state[k] == ElementState::Exterior {
                 traction_x_pa[k] = 0.0;
                 traction_y_pa[k] = 0.0;
             } else if traction_x_pa[k].hypot(traction_y_pa[k]) >= bound_pa[k] * (1.0 - 1e-9) {
                 let magnitude = traction_x_pa[k].hypot(traction_y_pa[k]);
-                slip_direction[k] = [-traction_x_pa[k] / magnitude, -traction_y_pa[k] / magnitude];
+                slip_direction[k] = -Vector2::new(traction_x_pa[k], traction_y_pa[k]) / magnitude;
                 state[k] = ElementState::Slip;
             }
         }
@@ -239,8 +241,8 @@ impl TangentialSolver {
             for k in 0..n {
                 match state[k] {
                     ElementState::Slip => {
-                        traction_x_pa[k] = -bound_pa[k] * slip_direction[k][0];
-                        traction_y_pa[k] = -bound_pa[k] * slip_direction[k][1];
+                        traction_x_pa[k] = -bound_pa[k] * slip_direction[k].x;
+                        traction_y_pa[k] = -bound_pa[k] * slip_direction[k].y;
                     }
                     ElementState::Exterior => {
                         traction_x_pa[k] = 0.0;
@@ -264,9 +266,9 @@ impl TangentialSolver {
                         if magnitude > bound_pa[k] * (1.0 + 1e-12) {
                             state[k] = ElementState::Slip;
                             slip_direction[k] =
-                                [-traction_x_pa[k] / magnitude, -traction_y_pa[k] / magnitude];
-                            traction_x_pa[k] = -bound_pa[k] * slip_direction[k][0];
-                            traction_y_pa[k] = -bound_pa[k] * slip_direction[k][1];
+                                -Vector2::new(traction_x_pa[k], traction_y_pa[k]) / magnitude;
+                            traction_x_pa[k] = -bound_pa[k] * slip_direction[k].x;
+                            traction_y_pa[k] = -bound_pa[k] * slip_direction[k].y;
                             changes += 1;
                         }
                     }
@@ -304,7 +306,7 @@ impl TangentialSolver {
             residual.extend(
                 slipping
                     .iter()
-                    .map(|&k| -slip_direction[k][1] * slip_x[k] + slip_direction[k][0] * slip_y[k]),
+                    .map(|&k| slip_direction[k].perp(&Vector2::new(slip_x[k], slip_y[k]))),
             );
             let residual_norm = residual.iter().map(|v| v * v).sum::<f64>().sqrt();
             if residual_norm <= options.relative_tolerance * rigid_norm {
@@ -325,7 +327,9 @@ impl TangentialSolver {
             let sigma: Vec<f64> = slipping
                 .iter()
                 .map(|&k| {
-                    (slip_direction[k][0] * slip_x[k] + slip_direction[k][1] * slip_y[k]).max(0.0)
+                    slip_direction[k]
+                        .dot(&Vector2::new(slip_x[k], slip_y[k]))
+                        .max(0.0)
                 })
                 .collect();
             // Jacobian-vector product of the residual w.r.t. (p_H, theta_S):
@@ -339,16 +343,17 @@ impl TangentialSolver {
                 }
                 for (position, &k) in slipping.iter().enumerate() {
                     let turn = vector[2 * count_h + position];
-                    field_x[k] = bound_pa[k] * slip_direction[k][1] * turn; // -g t_x, t_x = -n_y
-                    field_y[k] = -bound_pa[k] * slip_direction[k][0] * turn; // -g t_y, t_y = n_x
+                    field_x[k] = bound_pa[k] * slip_direction[k].y * turn; // -g t_x, t_x = -n_y
+                    field_y[k] = -bound_pa[k] * slip_direction[k].x * turn; // -g t_y, t_y = n_x
                 }
                 let [product_x, product_y] = self.apply_influence(&field_x, &field_y);
                 let mut result = Vec::with_capacity(2 * count_h + count_s);
                 result.extend(adhesion.iter().map(|&k| product_x[k]));
                 result.extend(adhesion.iter().map(|&k| product_y[k]));
                 for (position, &k) in slipping.iter().enumerate() {
+                    // t . (C dp) with t = (-n_y, n_x): the 2D cross product n x (C dp).
                     let tangential =
-                        -slip_direction[k][1] * product_x[k] + slip_direction[k][0] * product_y[k];
+                        slip_direction[k].perp(&Vector2::new(product_x[k], product_y[k]));
                     result.push(tangential - sigma[position] * vector[2 * count_h + position]);
                 }
                 result
@@ -371,7 +376,7 @@ impl TangentialSolver {
                 .iter()
                 .enumerate()
                 .map(|(position, &k)| {
-                    let (tx, ty) = (-slip_direction[k][1], slip_direction[k][0]);
+                    let (tx, ty) = (-slip_direction[k].y, slip_direction[k].x);
                     let diagonal = -(sigma[position]
                         + bound_pa[k]
                             * (tx * tx * self_influence[0] + ty * ty * self_influence[1]));
@@ -424,9 +429,7 @@ impl TangentialSolver {
             for (position, &k) in slipping.iter().enumerate() {
                 // Damped rotation of the slip direction (at most 0.5 rad per step).
                 let turn = step[2 * count_h + position].clamp(-0.5, 0.5);
-                let (cos_turn, sin_turn) = (turn.cos(), turn.sin());
-                let [nx, ny] = slip_direction[k];
-                slip_direction[k] = [nx * cos_turn - ny * sin_turn, nx * sin_turn + ny * cos_turn];
+                slip_direction[k] = Rotation2::new(turn) * slip_direction[k];
             }
         }
         Err(Error::Numerical(format!(

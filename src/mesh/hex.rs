@@ -1,6 +1,8 @@
 //! Geometry of the 8-node hexahedron (VTK node order: 0-3 counter-clockwise on the bottom face
 //! seen from the top, 4-7 above them).
 
+use nalgebra::Vector3;
+
 /// A point in space.
 pub type P3 = [f64; 3];
 
@@ -43,18 +45,15 @@ pub const EDGES: [[usize; 2]; 12] = [
     [3, 7],
 ];
 
-fn sub(a: P3, b: P3) -> P3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+/// Hexahedron geometry computes with nalgebra's `Vector3`; `P3` (three contiguous `f64`, the
+/// storage of every node array) converts to it for free.
+fn vector(p: P3) -> Vector3<f64> {
+    Vector3::from(p)
 }
-fn cross(a: P3, b: P3) -> P3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn dot(a: P3, b: P3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+/// Edge vector `to - from`.
+fn edge(from: P3, to: P3) -> Vector3<f64> {
+    vector(to) - vector(from)
 }
 
 /// Natural coordinates of the eight nodes of a hexahedron in the mesh's (VTK) node order.
@@ -71,7 +70,7 @@ pub const NODE_NATURAL: [[f64; 3]; 8] = [
 
 /// Euclidean norm.
 pub fn norm3(a: P3) -> f64 {
-    dot(a, a).sqrt()
+    vector(a).norm()
 }
 
 /// Corner Jacobian determinants (triple products of the three corner edges); all positive for
@@ -79,10 +78,10 @@ pub fn norm3(a: P3) -> f64 {
 pub fn corner_jacobians(x: &[P3; 8]) -> [f64; 8] {
     let mut out = [0.0; 8];
     for (c, nb) in CORNER_NEIGHBOURS.iter().enumerate() {
-        let e1 = sub(x[nb[0]], x[c]);
-        let e2 = sub(x[nb[1]], x[c]);
-        let e3 = sub(x[nb[2]], x[c]);
-        out[c] = dot(e1, cross(e2, e3));
+        let e1 = edge(x[c], x[nb[0]]);
+        let e2 = edge(x[c], x[nb[1]]);
+        let e3 = edge(x[c], x[nb[2]]);
+        out[c] = e1.dot(&e2.cross(&e3));
     }
     out
 }
@@ -92,11 +91,11 @@ pub fn corner_jacobians(x: &[P3; 8]) -> [f64; 8] {
 pub fn min_scaled_jacobian(x: &[P3; 8]) -> f64 {
     let mut worst = f64::INFINITY;
     for (c, nb) in CORNER_NEIGHBOURS.iter().enumerate() {
-        let e1 = sub(x[nb[0]], x[c]);
-        let e2 = sub(x[nb[1]], x[c]);
-        let e3 = sub(x[nb[2]], x[c]);
-        let scale = (norm3(e1) * norm3(e2) * norm3(e3)).max(1e-300);
-        worst = worst.min(dot(e1, cross(e2, e3)) / scale);
+        let e1 = edge(x[c], x[nb[0]]);
+        let e2 = edge(x[c], x[nb[1]]);
+        let e3 = edge(x[c], x[nb[2]]);
+        let scale = (e1.norm() * e2.norm() * e3.norm()).max(1e-300);
+        worst = worst.min(e1.dot(&e2.cross(&e3)) / scale);
     }
     worst
 }
@@ -115,23 +114,20 @@ pub fn volume(x: &[P3; 8]) -> f64 {
     ];
     let mut v = 0.0;
     for t in TETS {
-        v += dot(
-            sub(x[t[1]], x[t[0]]),
-            cross(sub(x[t[2]], x[t[0]]), sub(x[t[3]], x[t[0]])),
-        ) / 6.0;
+        let base = x[t[0]];
+        v += edge(base, x[t[1]]).dot(&edge(base, x[t[2]]).cross(&edge(base, x[t[3]]))) / 6.0;
     }
     v
 }
 
 /// Area of a (possibly warped) quad face: half the norm of the cross product of its diagonals.
 pub fn face_area(a: P3, b: P3, c: P3, d: P3) -> f64 {
-    0.5 * norm3(cross(sub(c, a), sub(d, b)))
+    0.5 * edge(a, c).cross(&edge(b, d)).norm()
 }
 
 /// Outward normal (not normalised; length = face area) of a face given in outward order.
 pub fn face_normal(a: P3, b: P3, c: P3, d: P3) -> P3 {
-    let n = cross(sub(c, a), sub(d, b));
-    [0.5 * n[0], 0.5 * n[1], 0.5 * n[2]]
+    (edge(a, c).cross(&edge(b, d)) * 0.5).into()
 }
 
 /// Characteristic length for the explicit time step, `L = V / A_max` (volume over the largest
@@ -149,7 +145,7 @@ pub fn edge_range(x: &[P3; 8]) -> (f64, f64) {
     let mut lo = f64::INFINITY;
     let mut hi: f64 = 0.0;
     for e in EDGES {
-        let l = norm3(sub(x[e[1]], x[e[0]]));
+        let l = edge(x[e[0]], x[e[1]]).norm();
         lo = lo.min(l);
         hi = hi.max(l);
     }

@@ -203,8 +203,8 @@ pub(super) fn vibration(page: &mut Page, ctx: &Context) -> Result<()> {
                 }
                 psds.push(Series::line(
                     &r.name,
-                    a.psd.frequency_hz.clone(),
-                    a.psd.psd_per_hz.clone(),
+                    a.psd.frequency_hz.to_vec(),
+                    a.psd.psd_per_hz.to_vec(),
                     k,
                 ));
                 let peaks: Vec<(f64, f64)> = a
@@ -228,7 +228,12 @@ pub(super) fn vibration(page: &mut Page, ctx: &Context) -> Result<()> {
                         p *= 2;
                     }
                     let psd = crate::signal::welch(v, fs, &crate::signal::WelchParams::new(p))?;
-                    psds.push(Series::line(&r.name, psd.frequency_hz, psd.psd_per_hz, k));
+                    psds.push(Series::line(
+                        &r.name,
+                        psd.frequency_hz.to_vec(),
+                        psd.psd_per_hz.to_vec(),
+                        k,
+                    ));
                 }
             }
         }

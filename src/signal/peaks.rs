@@ -20,6 +20,8 @@
 //! `p = (a - c) / (2 (a - 2b + c))` bins, log height `b - (a - c) p / 4`, with a, b, c the log
 //! PSD at bins k-1, k, k+1.
 
+use ndarray::{ArrayView1, AsArray};
+
 use crate::{Error, Result};
 
 /// Indices of local maxima (SciPy `_local_maxima_1d`, see the module documentation).
@@ -194,11 +196,17 @@ pub struct SpectralPeak {
 }
 
 /// The dominant peaks of `psd` over `frequency_hz` (uniform bins), highest ranked first.
-pub fn find_spectral_peaks(
-    frequency_hz: &[f64],
-    psd: &[f64],
+///
+/// Both axes are anything that views as a 1-D array: a [`crate::signal::Psd`]'s `Array1`s
+/// (see [`crate::signal::Psd::find_peaks`]), a slice or a `Vec`.
+pub fn find_spectral_peaks<'a>(
+    frequency_hz: impl AsArray<'a, f64>,
+    psd: impl AsArray<'a, f64>,
     search: &PeakSearch,
 ) -> Result<Vec<SpectralPeak>> {
+    let frequency_hz: ArrayView1<'a, f64> = frequency_hz.into();
+    // The building blocks work on contiguous samples; a strided view is copied once.
+    let psd: Vec<f64> = psd.into().to_vec();
     if frequency_hz.len() != psd.len() {
         return Err(Error::input(
             "peaks",
@@ -235,8 +243,8 @@ pub fn find_spectral_peaks(
     }
     let bin_hz = (frequency_hz[psd.len() - 1] - frequency_hz[0]) / (psd.len() - 1) as f64;
 
-    let maxima = local_maxima(psd);
-    let prominences = peak_prominences(psd, &maxima)?;
+    let maxima = local_maxima(&psd);
+    let prominences = peak_prominences(&psd, &maxima)?;
     let in_band: Vec<(usize, Prominence)> = maxima
         .into_iter()
         .zip(prominences)
@@ -317,7 +325,8 @@ mod tests {
             max_frequency_hz: 5.0,
             ..PeakSearch::default()
         };
-        let err = find_spectral_peaks(&[0.0, 1.0, 2.0], &[0.0, 1.0, 0.0], &search).unwrap_err();
+        let err =
+            find_spectral_peaks(&[0.0, 1.0, 2.0][..], &[0.0, 1.0, 0.0][..], &search).unwrap_err();
         assert_eq!(err.exit_code(), 2);
     }
 }

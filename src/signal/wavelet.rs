@@ -30,6 +30,7 @@
 use std::f64::consts::PI;
 use std::sync::Arc;
 
+use ndarray::{Array1, Array2};
 use rayon::prelude::*;
 use rustfft::{num_complex::Complex, Fft, FftPlanner};
 
@@ -126,15 +127,15 @@ pub struct WaveletPower {
     /// Number of time samples N.
     pub time_count: usize,
     /// Scales s_j, s.
-    pub scale_s: Vec<f64>,
-    /// Fourier frequency of each scale, `1 / (lambda s_j)`, Hz.
-    pub frequency_hz: Vec<f64>,
-    /// `|W_n(s_j)|^2` in signal unit^2, row-major **time x frequency**: element
-    /// `power[n * frequency_hz.len() + j]` is time sample n (t = n / fs) and scale j.
-    pub power: Vec<f64>,
+    pub scale_s: Array1<f64>,
+    /// Fourier frequency of each scale, `1 / (lambda s_j)`, Hz (the column axis of `power`).
+    pub frequency_hz: Array1<f64>,
+    /// `|W_n(s_j)|^2` in signal unit^2, shape **time x frequency**: `power[[n, j]]` is time
+    /// sample n (t = n / fs) and scale j.
+    pub power: Array2<f64>,
     /// Cone of influence per time sample: Fourier periods longer than this are affected by the
     /// record ends, s (0 at the first and last sample).
-    pub coi_period_s: Vec<f64>,
+    pub coi_period_s: Array1<f64>,
 }
 
 impl WaveletPower {
@@ -145,7 +146,7 @@ impl WaveletPower {
 
     /// `|W|^2` at time sample `time_index` and scale `frequency_index`.
     pub fn power_at(&self, time_index: usize, frequency_index: usize) -> f64 {
-        self.power[time_index * self.frequency_count() + frequency_index]
+        self.power[[time_index, frequency_index]]
     }
 
     /// Cone of influence as a frequency per time sample: frequencies below it are affected by
@@ -291,21 +292,20 @@ pub fn morlet_cwt(signal: &[f64], sample_rate_hz: f64, scales: &Scales) -> Resul
 
     // Transpose to time x frequency.
     let frequency_count = scale_s.len();
-    let mut power = vec![0.0; n * frequency_count];
+    let mut power = Array2::zeros((n, frequency_count));
     for (j, row) in power_by_scale.iter().enumerate() {
         for (time_index, value) in row.iter().enumerate() {
-            power[time_index * frequency_count + j] = *value;
+            power[[time_index, j]] = *value;
         }
     }
 
-    let coi_period_s = (0..n)
-        .map(|i| lambda * (i.min(n - 1 - i) as f64 * dt) / 2f64.sqrt())
-        .collect();
+    let coi_period_s =
+        Array1::from_shape_fn(n, |i| lambda * (i.min(n - 1 - i) as f64 * dt) / 2f64.sqrt());
     let frequency_hz = scale_s.iter().map(|s| 1.0 / (lambda * s)).collect();
     Ok(WaveletPower {
         sample_rate_hz,
         time_count: n,
-        scale_s,
+        scale_s: Array1::from_vec(scale_s),
         frequency_hz,
         power,
         coi_period_s,

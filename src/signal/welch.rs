@@ -19,6 +19,7 @@
 
 use std::sync::Arc;
 
+use ndarray::Array1;
 use rayon::prelude::*;
 use rustfft::{num_complex::Complex, Fft, FftPlanner};
 
@@ -148,10 +149,11 @@ impl WelchParams {
 /// A one-sided Welch spectrum.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Psd {
-    /// Bin frequencies `k * fs / nfft`, k = 0..=nfft/2, in Hz.
-    pub frequency_hz: Vec<f64>,
-    /// PSD in signal unit^2/Hz (with [`PsdScaling::Spectrum`]: power per bin, unit^2).
-    pub psd_per_hz: Vec<f64>,
+    /// Bin frequencies `k * fs / nfft`, k = 0..=nfft/2, in Hz (the axis of `psd_per_hz`).
+    pub frequency_hz: Array1<f64>,
+    /// PSD in signal unit^2/Hz (with [`PsdScaling::Spectrum`]: power per bin, unit^2), one value
+    /// per entry of `frequency_hz`.
+    pub psd_per_hz: Array1<f64>,
     /// Bin spacing `fs / nfft`, Hz (finer than the main lobe `~ 2 fs / nperseg` of a Hann
     /// window when the segments are zero-padded).
     pub frequency_resolution_hz: f64,
@@ -159,6 +161,13 @@ pub struct Psd {
     pub segment_count: usize,
     /// The parameters used.
     pub params: WelchParams,
+}
+
+impl Psd {
+    /// The dominant peaks of this spectrum ([`super::find_spectral_peaks`] on its own axes).
+    pub fn find_peaks(&self, search: &super::PeakSearch) -> Result<Vec<super::SpectralPeak>> {
+        super::find_spectral_peaks(&self.frequency_hz, &self.psd_per_hz, search)
+    }
 }
 
 /// Segments per deterministic partial sum: the sum order never depends on the thread count.
@@ -242,12 +251,10 @@ pub fn welch(signal: &[f64], sample_rate_hz: f64, params: &WelchParams) -> Resul
     }
 
     let frequency_resolution_hz = sample_rate_hz / nfft as f64;
-    let frequency_hz = (0..bin_count)
-        .map(|k| k as f64 * frequency_resolution_hz)
-        .collect();
+    let frequency_hz = Array1::from_shape_fn(bin_count, |k| k as f64 * frequency_resolution_hz);
     Ok(Psd {
         frequency_hz,
-        psd_per_hz,
+        psd_per_hz: Array1::from_vec(psd_per_hz),
         frequency_resolution_hz,
         segment_count,
         params: *params,
