@@ -27,4 +27,5 @@ pub mod scenario;
 pub mod signal;
 pub mod stability;
 pub mod table;
+pub mod uff;
 pub use error::{Error, Result};

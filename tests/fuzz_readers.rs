@@ -1,6 +1,7 @@
 //! No input makes a reader panic: seeded random mutations (bytes changed, ranges deleted or
 //! repeated, files cut short) of valid small files in every format the toolkit reads (Gmsh
-//! MSH, legacy VTK, VTU, CSV, case and model JSON, wheel JSON); each reader must return
+//! MSH, legacy VTK, VTU, CSV, case and model JSON, wheel JSON, universal files with every
+//! dataset read, ASCII and binary); each reader must return
 //! a value or an error, never panic.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -97,7 +98,36 @@ fn fixtures(dir: &Path) -> Vec<(PathBuf, &'static str)> {
     std::fs::copy(root.join("data/models/ci-tiny.json"), &model).unwrap();
     let wheel = dir.join("wheel.json");
     std::fs::copy(root.join("data/wheels/ns_intercity_920.json"), &wheel).unwrap();
+    // Every dataset the UFF reader takes, small: the fixtures' units, nodes and mode shapes, and
+    // the first FRF cut to 40 points, once ASCII and once binary.
+    let fixture = |name: &str| std::fs::read(root.join("tests/fixtures/uff").join(name)).unwrap();
+    let mut all = Vec::new();
+    for name in [
+        "units164.uff",
+        "nodes15.uff",
+        "nodes2411.uff",
+        "modes55.uff",
+    ] {
+        all.extend(fixture(name));
+    }
+    let mut frf = squeal::uff::parse_uff(&fixture("frf_binary.uff"), "frf").unwrap();
+    frf.functions.truncate(1);
+    if let squeal::uff::FunctionValues::Complex(v) = &mut frf.functions[0].values {
+        v.truncate(40);
+    }
+    all.extend(squeal::uff::write::to_bytes(&frf, false).unwrap());
+    all.extend(squeal::uff::write::to_bytes(&frf, true).unwrap());
+    let uff = dir.join("all.uff");
+    std::fs::write(&uff, all).unwrap();
+    let uff_binary = dir.join("pyuff_binary.uff");
+    std::fs::copy(
+        root.join("tests/fixtures/uff/frf_binary_pyuff.uff"),
+        &uff_binary,
+    )
+    .unwrap();
     vec![
+        (uff, "uff"),
+        (uff_binary, "uff"),
         (vtu, "vtu"),
         (msh, "msh"),
         (vtk, "vtk"),
@@ -117,6 +147,9 @@ fn read(path: &Path, kind: &str) {
         "csv" => {
             let _ = squeal::signal::TimeSeries::from_csv(path, "x_m");
             let _ = squeal::table::Table::read(path);
+        }
+        "uff" => {
+            let _ = squeal::uff::read_uff(path);
         }
         "case" => {
             let _ = squeal::model::case::load_case(path);

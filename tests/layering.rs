@@ -2,7 +2,7 @@
 //! later one, and no two files import each other (directly or round a circle).
 //!
 //! The stages, earliest first (a module may import its own and earlier ones):
-//! error, input, table, friction, material, output < signal, geometry < mesh < fem < scenario, kalker < model < modal
+//! error, input, table, friction, material, output, uff < signal, geometry < mesh < fem < scenario, kalker < model < modal
 //! (with axisym and hammer inside) < explicit < contact < rolling < identify < analysis, growth, stability <
 //! report < pipeline. The binary (main.rs, cli/) may import anything.
 //!
@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 /// Stage rank of each top-level module.
 fn rank(module: &str) -> Option<u32> {
     Some(match module {
-        "error" | "input" | "table" | "friction" | "material" | "output" => 0,
+        "error" | "input" | "table" | "friction" | "material" | "output" | "uff" => 0,
         "signal" | "geometry" => 1,
         "mesh" => 2,
         "fem" => 3,
