@@ -42,6 +42,9 @@ enum Command {
     Bench(cli::bench::BenchArgs),
     /// Squeal stability: complex eigenvalues of the wheel-rail system at an operating point.
     Stability(cli::stability::StabilityArgs),
+    /// Hammer-test modal analysis: frequencies, damping and shapes from FRFs in a universal
+    /// file (LSCF with a stabilisation diagram, or peak picking).
+    Ema(cli::ema::EmaArgs),
 }
 
 /// Every option that takes a value accepts a negative number (`--density-kg-per-m3 -7850`),
@@ -81,6 +84,7 @@ fn main() {
         Some(Command::Simulate(args)) => cli::simulate::run(args),
         Some(Command::Axisym(args)) => cli::axisym::run(args),
         Some(Command::Stability(args)) => cli::stability::run(args),
+        Some(Command::Ema(args)) => cli::ema::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");

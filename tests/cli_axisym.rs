@@ -85,6 +85,21 @@ fn writes_modes_json_and_csv() {
     assert!(with_test.status.success());
     let svg = std::fs::read_to_string(dir.join("modal_chart.svg")).unwrap();
     assert!(svg.contains("measured"), "measured series");
+    // A universal file's mode shapes (datasets 55, 420/1130/2050 Hz): paired by frequency, as
+    // the table says, and drawn.
+    let with_uff = coarse(&["--hammer", "tests/fixtures/uff/modes55.uff"]);
+    assert!(
+        with_uff.status.success(),
+        "{}",
+        String::from_utf8_lossy(&with_uff.stderr)
+    );
+    let table = std::fs::read_to_string(dir.join("comparison.md")).unwrap();
+    assert_eq!(table.matches("nearest FE frequency").count(), 3, "{table}");
+    let svg = std::fs::read_to_string(dir.join("modal_chart.svg")).unwrap();
+    assert!(
+        svg.contains("measured"),
+        "measured series from the universal file"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -71,6 +71,24 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let bad_json = fx.join("bad.json").display().to_string();
     let run = fx.join("run").display().to_string();
     let missing = fx.join("missing.json").display().to_string();
+    let frf = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/uff/frf_ascii.uff")
+        .display()
+        .to_string();
+    let modes55 = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/uff/modes55.uff")
+        .display()
+        .to_string();
+    // A universal file cut inside its first dataset, and one with a bad ordinate type.
+    let ascii = std::fs::read_to_string(&frf).unwrap();
+    std::fs::write(fx.join("cut.uff"), &ascii[..2000]).unwrap();
+    let cut = fx.join("cut.uff").display().to_string();
+    std::fs::write(
+        fx.join("type3.uff"),
+        ascii.replacen("         6      3001", "         3      3001", 1),
+    )
+    .unwrap();
+    let type3 = fx.join("type3.uff").display().to_string();
     // (arguments, exit code, words the message must hold besides a range word)
     let rows: Vec<(Vec<&str>, i32, Vec<&str>)> = vec![
         // psd
@@ -426,6 +444,52 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["--wheel-radius-m"],
         ),
         (vec!["profile", "u60"], 2, vec!["u60"]),
+        // ema
+        (
+            vec!["ema", "--uff", &frf, "--out", "o", "--max-order", "7"],
+            2,
+            vec!["--max-order"],
+        ),
+        (
+            vec!["ema", "--uff", &frf, "--out", "o", "--max-order", "-2"],
+            2,
+            vec!["--max-order"],
+        ),
+        (
+            vec!["ema", "--uff", &frf, "--out", "o", "--fmax-hz", "9000"],
+            2,
+            vec!["--fmax-hz"],
+        ),
+        (
+            vec!["ema", "--uff", &frf, "--out", "o", "--fmin-hz", "-5"],
+            2,
+            vec!["--fmin-hz"],
+        ),
+        (
+            vec!["ema", "--uff", &frf, "--out", "o", "--method", "guess"],
+            2,
+            vec!["--method"],
+        ),
+        (
+            vec!["ema", "--uff", &cut, "--out", "o"],
+            2,
+            vec!["cut.uff", "dataset 58"],
+        ),
+        (
+            vec!["ema", "--uff", &type3, "--out", "o"],
+            2,
+            vec!["type3.uff", "record 7"],
+        ),
+        (
+            vec!["ema", "--uff", &modes55, "--out", "o"],
+            2,
+            vec!["modes55.uff", "FRF"],
+        ),
+        (
+            vec!["ema", "--uff", &missing, "--out", "o"],
+            1,
+            vec!["missing.json"],
+        ),
         // kalker
         (vec!["kalker", "hertz", "--fn", "-1000"], 2, vec!["fn"]),
         (

@@ -331,7 +331,7 @@ fn malformed_files_name_the_dataset_record_and_allowed_values() {
     assert!(error_of("hello\n").contains("outside a dataset"));
     assert!(
         error_of("    -1\n    15\n         1         0         0         8  0.0 0.0 0.0\n")
-            .contains("no closing")
+            .contains("must end")
     );
     assert!(error_of("").contains("no dataset"));
     // Dataset 55 with a data type that is neither real nor complex.

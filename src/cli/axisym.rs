@@ -53,8 +53,9 @@ pub struct AxisymArgs {
     /// Output folder for modes.json, modes.csv, harmonics.json.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Hammer-test CSV (data/hammer/) drawn solid beside the computed modes on the modal
-    /// chart (needs --out).
+    /// Hammer test drawn solid beside the computed modes on the modal chart (needs --out): a
+    /// CSV of labelled modes (data/hammer/), or a universal file (.uff/.unv) whose modes (LSCF on
+    /// its FRFs, or its mode shapes) are paired with the FE modes by frequency.
     #[arg(long, requires = "out")]
     pub hammer: Option<PathBuf>,
 }
@@ -198,11 +199,7 @@ pub fn run(args: AxisymArgs) -> Result<()> {
         res.seconds
     );
     if let Some(dir) = &args.out {
-        let measured = match &args.hammer {
-            Some(h) => Some(squeal::modal::hammer::read_hammer_csv(h)?),
-            None => None,
-        };
-        write_outputs(dir, &res, measured.as_deref())?;
+        write_outputs(dir, &res, args.hammer.as_deref(), args.fmax_hz)?;
         println!("wrote {}", dir.display());
     }
     Ok(())
@@ -224,14 +221,21 @@ fn family_name(f: squeal::identify::ModeFamily) -> &'static str {
 fn write_outputs(
     out: &Path,
     res: &axisym::AxisymResult,
-    measured: Option<&[squeal::modal::hammer::MeasuredMode]>,
+    hammer: Option<&Path>,
+    fmax_hz: f64,
 ) -> Result<()> {
     let stage = StagedDir::new(out)?;
     let dir = stage.path();
     let refs: Vec<_> = res.modes.iter().map(|m| m.mode_ref()).collect();
+    // The section's harmonic shapes are not sampled at test points: a universal file's modes
+    // pair by frequency here (`squeal modes` pairs them by MAC).
+    let measured = match hammer {
+        Some(h) => Some(super::hammer::compare_hammer(h, &refs, None, fmax_hz, dir)?),
+        None => None,
+    };
     squeal::report::modal_chart::write_modal_chart(
         &refs,
-        measured,
+        measured.as_deref(),
         Some(&dir.join("modal_chart.png")),
         Some(&dir.join("modal_chart.svg")),
     )?;

@@ -3,7 +3,9 @@
 pub mod axisym;
 pub mod bench;
 pub mod default_run;
+pub mod ema;
 pub mod growth;
+pub mod hammer;
 pub mod identify;
 pub mod kalker;
 pub mod mesh;

@@ -93,7 +93,9 @@ pub struct ModesArgs {
     /// completeness checked by Sturm counts at its edges. For wide bands with many modes.
     #[arg(long, default_value_t = 1)]
     pub slices: usize,
-    /// Hammer-test CSV to compare with (data/hammer/).
+    /// Hammer test to compare with: a CSV of labelled modes (data/hammer/), or a universal file
+    /// (.uff/.unv) with FRFs (analysed by LSCF) or mode shapes, paired with the FE modes by MAC
+    /// at its nodes (datasets 15/2411, in the model's axes).
     #[arg(long)]
     pub hammer: Option<PathBuf>,
     /// Output directory.
@@ -185,6 +187,7 @@ pub fn run(args: ModesArgs) -> Result<()> {
         &run.solution,
         &run.shapes,
         &run.records,
+        model.node_positions_m(),
         |dir, fields| model.write_vtu(&dir.join("modes.vtu"), fields),
     )?;
     stage.commit(Commit::Merge)?;
@@ -299,6 +302,7 @@ fn write_outputs(
     sol: &ModalSolution,
     shapes: &Shapes,
     records: &[ModeRecord],
+    nodes_m: &[squeal::mesh::P3],
     write_vtu: impl FnOnce(&Path, &[vtu::PointVectorField]) -> Result<()>,
 ) -> Result<()> {
     let refs: Vec<_> = records.iter().map(|r| r.mode_ref()).collect();
@@ -362,14 +366,20 @@ fn write_outputs(
     write_vtu(dir, &fields)?;
     let mut measured_modes = None;
     if let Some(h) = &args.hammer {
-        let measured = squeal::modal::hammer::read_hammer_csv(h)?;
-        let cmp = squeal::modal::hammer::compare(&measured, &refs);
-        let p = dir.join("comparison.md");
-        std::fs::write(&p, cmp.to_markdown()).map_err(|e| Error::io(&p, e))?;
-        let p = dir.join("comparison.csv");
-        std::fs::write(&p, cmp.to_csv()).map_err(|e| Error::io(&p, e))?;
-        println!("{}", cmp.to_markdown());
-        measured_modes = Some(measured);
+        let fe = super::hammer::FeShapesOnMesh {
+            nodes_m,
+            members: records
+                .iter()
+                .map(|r| r.members.iter().map(|&k| shapes[k].3.as_slice()).collect())
+                .collect(),
+        };
+        measured_modes = Some(super::hammer::compare_hammer(
+            h,
+            &refs,
+            Some(&fe),
+            args.fmax_hz,
+            dir,
+        )?);
     }
     // The paper's modal chart, measured modes solid when a hammer test is given.
     squeal::report::modal_chart::write_modal_chart(

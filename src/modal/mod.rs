@@ -44,6 +44,7 @@ pub mod axisym;
 pub mod block;
 pub mod classify;
 pub mod dense;
+pub mod ema;
 pub mod factor;
 pub mod hammer;
 pub mod inertia;

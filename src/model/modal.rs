@@ -247,6 +247,14 @@ pub fn volume_model(
 }
 
 impl ModalModel {
+    /// Node coordinates of the mesh (m), in the order of the mode shapes' values.
+    pub fn node_positions_m(&self) -> &[P3] {
+        match &self.mesh {
+            ModalMesh::Hex(mesh) => &mesh.nodes,
+            ModalMesh::Volume(mesh) => &mesh.nodes,
+        }
+    }
+
     /// Writes the mesh with point vector fields (the mode shapes) as VTU.
     pub fn write_vtu(
         &self,

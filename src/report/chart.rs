@@ -370,6 +370,8 @@ pub struct Heatmap {
     pub values: Vec<f64>,
     /// Dynamic range shown (dB below the maximum).
     pub range_db: f64,
+    /// A linear colour scale over `(low, high)` instead of decibels (e.g. MAC in [0, 1]).
+    pub linear_range: Option<(f64, f64)>,
     /// Logarithmic y axis.
     pub log_y: bool,
     /// Lines drawn on top (e.g. the cone of influence).
@@ -451,12 +453,17 @@ where
                 .flat_map(|ix| (0..ny).map(move |iy| (ix, iy)))
                 .map(|(ix, iy)| {
                     let v = map.values[ix * ny + iy];
-                    let db = if v > 0.0 {
-                        10.0 * (v / vmax).log10()
-                    } else {
-                        -range
+                    let t = match map.linear_range {
+                        Some((low, high)) => ((v - low) / (high - low)).clamp(0.0, 1.0),
+                        None => {
+                            let db = if v > 0.0 {
+                                10.0 * (v / vmax).log10()
+                            } else {
+                                -range
+                            };
+                            ((db + range) / range).clamp(0.0, 1.0)
+                        }
                     };
-                    let t = ((db + range) / range).clamp(0.0, 1.0);
                     let c = ViridisRGB.get_color(t as f32);
                     Rectangle::new([(xe[ix], ye[iy]), (xe[ix + 1], ye[iy + 1])], c.filled())
                 });

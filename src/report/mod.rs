@@ -2,6 +2,7 @@
 //! markdown/HTML report.
 
 pub mod chart;
+pub mod ema_charts;
 pub mod kalker_charts;
 pub mod modal_chart;
 mod page;

@@ -85,6 +85,7 @@ fn wavelet_chart(
         y: order.iter().map(|&j| wp.frequency_hz[j]).collect(),
         values,
         range_db: 40.0,
+        linear_range: None,
         log_y: true,
         overlay: vec![coi_series],
         size_px: Some((760, 520)),
@@ -451,22 +452,48 @@ pub(super) fn patches(page: &mut Page, ctx: &Context) -> Result<()> {
     Ok(())
 }
 
-/// The modal chart (frequency against nodal diameters per family), with measured lines from an optional `RUN_DIR/hammer.csv`.
+/// The hammer test beside a run, if any: `RUN_DIR/hammer.csv` (labelled modes) or
+/// `RUN_DIR/hammer.uff` (FRFs analysed by LSCF, or mode shapes; paired with the run's FE modes
+/// by frequency, since the run keeps no FE shapes). The measured modes and the comparison table.
+fn hammer_of_run(
+    dir: &std::path::Path,
+    modes: &[crate::modal::mode::ModeRef],
+) -> Result<Option<(Vec<crate::modal::hammer::MeasuredMode>, String)>> {
+    use crate::modal::ema::{fe_comparison::compare_with_fe, uff_test};
+    let csv = dir.join("hammer.csv");
+    let uff = dir.join("hammer.uff");
+    if csv.exists() {
+        let measured = crate::modal::hammer::read_hammer_csv(&csv)?;
+        let table = crate::modal::hammer::compare(&measured, modes).to_markdown();
+        Ok(Some((measured, table)))
+    } else if uff.exists() {
+        let name = uff.display().to_string();
+        let fmax_hz = modes.iter().map(|m| m.frequency_hz).fold(0.0, f64::max);
+        let test = uff_test::test_from_uff(
+            &crate::uff::read_uff(&uff)?,
+            &name,
+            fmax_hz,
+            uff_test::DEFAULT_MAX_ORDER,
+        )?;
+        let cmp = compare_with_fe(&test, &name, modes, None);
+        Ok(Some((cmp.measured, cmp.table.to_markdown())))
+    } else {
+        Ok(None)
+    }
+}
+
+/// The modal chart (frequency against nodal diameters per family), with measured lines from an
+/// optional hammer test beside the run ([`hammer_of_run`]).
 pub(super) fn modes_chart(page: &mut Page, ctx: &Context) -> Result<()> {
     let Context { runs, out_dir, .. } = *ctx;
     // ---- Modal chart (frequency against nodal diameters per family; measured from an
-    // optional RUN_DIR/hammer.csv).
+    // optional hammer test beside the run).
     if let Some((dir, modes)) = runs
         .iter()
         .find_map(|r| r.modes.as_ref().map(|m| (&r.dir, m)))
     {
         page.heading("Wheel modes");
-        let hammer_path = dir.join("hammer.csv");
-        let measured = if hammer_path.exists() {
-            Some(crate::modal::hammer::read_hammer_csv(&hammer_path)?)
-        } else {
-            None
-        };
+        let (measured, table) = hammer_of_run(dir, modes)?.unzip();
         super::modal_chart::write_modal_chart(
             modes,
             measured.as_deref(),
@@ -474,12 +501,8 @@ pub(super) fn modes_chart(page: &mut Page, ctx: &Context) -> Result<()> {
             Some(&out_dir.join("modes.svg")),
         )?;
         let _ = writeln!(page.md, "![modes](modes.png)\n");
-        if let Some(meas) = &measured {
-            let _ = writeln!(
-                page.md,
-                "{}",
-                crate::modal::hammer::compare(meas, modes).to_markdown()
-            );
+        if let Some(table) = &table {
+            let _ = writeln!(page.md, "{table}");
         }
         page.files.push("modes.png".into());
     }

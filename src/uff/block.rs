@@ -192,7 +192,8 @@ pub fn split_blocks(bytes: &[u8], name: &str) -> Result<Vec<Block>> {
                 None => {
                     return Err(ctx.error(
                         "end",
-                        "the file ends inside this dataset (no closing `    -1` line)",
+                        "the file ends inside this dataset: a dataset must end with a `    -1` \
+                         line",
                     ))
                 }
             }
