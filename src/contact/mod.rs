@@ -784,16 +784,25 @@ impl AuxForces for ContactPair {
     /// `contact_force_n`: the force on each slave node from the last step, normal
     /// (`f_N n`, n out of the master) plus tangential; zero elsewhere. Over the patch it is the
     /// contact pressure times each node's share of the area.
+    /// `contact_force_n`: each slave node's total contact force; `contact_pressure_pa`: its
+    /// normal pressure (normal force over the node's tributary area, as the patch snapshots
+    /// report it) along the contact normal, so ParaView shows the pressure as the magnitude.
     fn snapshot_fields(&self, node_count: usize) -> Vec<(String, Vec<P3>)> {
         let mut force = vec![[0.0; 3]; node_count];
-        for (s, &node) in self.state.iter().zip(&self.slaves) {
+        let mut pressure = vec![[0.0; 3]; node_count];
+        for (k, (s, &node)) in self.state.iter().zip(&self.slaves).enumerate() {
             if node < node_count && s.active {
+                let pressure_pa = s.normal_force_n / self.slave_area_m2[k].max(1e-300);
                 for d in 0..3 {
                     force[node][d] = s.normal_force_n * s.normal[d] + s.tangential_force_n[d];
+                    pressure[node][d] = pressure_pa * s.normal[d];
                 }
             }
         }
-        vec![("contact_force_n".to_string(), force)]
+        vec![
+            ("contact_force_n".to_string(), force),
+            ("contact_pressure_pa".to_string(), pressure),
+        ]
     }
 
     fn add_forces(&mut self, _time_s: f64, dt_s: f64, u: &[P3], v: &[P3], force: &mut [P3]) {
