@@ -394,9 +394,11 @@ fn write_outputs(
 
 /// Writes K.mtx and M.mtx (Matrix Market) of the reduced system into `dir`.
 fn export_matrices(asm: &squeal::fem::Assembled, dir: &std::path::Path) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    write_matrix_market(&asm.k, &dir.join("K.mtx"))?;
-    write_matrix_market(&asm.m, &dir.join("M.mtx"))?;
+    // Written beside the folder and moved into it when both are complete.
+    let stage = StagedDir::new(dir)?;
+    write_matrix_market(&asm.k, &stage.path().join("K.mtx"))?;
+    write_matrix_market(&asm.m, &stage.path().join("M.mtx"))?;
+    stage.commit(Commit::Merge)?;
     println!("wrote {}/K.mtx and M.mtx", dir.display());
     Ok(())
 }
