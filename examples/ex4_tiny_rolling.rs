@@ -27,6 +27,7 @@ fn main() -> squeal::Result<()> {
             progress: false,
             end_time_s: None,
             stop: StopFlag::new(),
+            verify_contact_region: false,
         },
     )?;
     println!(

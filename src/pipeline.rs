@@ -89,6 +89,7 @@ pub fn run_pipeline(
             progress: opts.progress,
             end_time_s: opts.end_time_s,
             stop: StopFlag::new(),
+            verify_contact_region: false,
         },
     )?;
     stages.push(("rolling simulation".to_string(), t.elapsed().as_secs_f64()));

@@ -443,3 +443,77 @@ fn initial_clearance_measures_the_gap_and_the_facing() {
         assert_eq!(e.exit_code(), 2);
     }
 }
+
+/// The region of interest searches only the slaves near the master surface, and gives the
+/// full search's result bit for bit: a tall block (50 x 50 x 80 mm, every node a slave, so its
+/// upper nodes lie far above the plate) pushed to slide 1 m/s over the plate for 60 mm, run
+/// once with the full search and once with the region, its guard checked every step. The
+/// block slides several margins, so the region is rebuilt along the way.
+#[test]
+fn region_of_interest_search_matches_the_full_search_step_by_step() {
+    use squeal::contact::ContactSearch;
+    let run = |search: ContactSearch| {
+        let (mesh, _, faces, offset) = common::block_on_plate(
+            [30, 10, 1],
+            [0.6, 0.2, 0.02],
+            [2, 2, 4],
+            [0.05, 0.05, 0.08],
+            [0.1, 0.075],
+            2,
+        );
+        let slaves: Vec<usize> = (offset..mesh.nodes.len()).collect();
+        let mut pair = steel_pair(&mesh, slaves, faces, 0.1, FrictionLaw::Coulomb { mu: 0.3 });
+        pair.search = search;
+        pair.verify_region_every_steps = 1;
+        let materials: BTreeMap<u32, ElasticMaterial> =
+            [(1, STEEL), (2, STEEL)].into_iter().collect();
+        let mut model = Model::from_mesh(mesh, &materials, Formulation::default(), "test").unwrap();
+        model.gravity_m_per_s2 = [0.0, 0.0, -G];
+        model.fix_set("plate", [true, true, true]).unwrap();
+        let block = model.node_set("block").unwrap();
+        let bound = pair.time_step_bound_s(&model.nodal_mass_kg);
+        model.register_time_step_bound("contact", bound);
+        let mut solver = Solver::new(model, None).unwrap();
+        for &n in &block {
+            solver.v[n][0] = 1.0;
+        }
+        let mut history = Vec::new();
+        let mut smallest_region = usize::MAX;
+        while solver.time_s < 0.06 {
+            solver.step_with(&mut pair, false, false).unwrap();
+            smallest_region = smallest_region.min(pair.searched_slaves());
+            history.push(pair.state.clone());
+        }
+        (
+            history,
+            solver.u.clone(),
+            pair.region_rebuilds(),
+            smallest_region,
+            pair.slaves.len(),
+        )
+    };
+    let (full, u_full, _, _, slaves) = run(ContactSearch::Full);
+    let (region, u_region, rebuilds, smallest, _) = run(ContactSearch::Region);
+    println!(
+        "{} steps, {rebuilds} region rebuilds, at least {smallest} of {slaves} slaves searched",
+        full.len()
+    );
+    // The first build and at least two after the block slid a margin (20 mm) each.
+    assert!(rebuilds >= 3, "the region was built {rebuilds} times");
+    assert!(
+        smallest < slaves / 2,
+        "the upper nodes stay out of the region"
+    );
+    assert_eq!(full.len(), region.len());
+    for (step, (a, b)) in full.iter().zip(&region).enumerate() {
+        assert!(a == b, "slave states differ at step {step}");
+    }
+    // The block chatters on its penalty springs, but touches the plate most of the time.
+    let touching = full.iter().filter(|s| s.iter().any(|s| s.active)).count();
+    assert!(
+        2 * touching > full.len(),
+        "in contact {touching} of {} steps",
+        full.len()
+    );
+    assert!(u_full == u_region, "displacements differ");
+}

@@ -32,6 +32,8 @@ fn run_in_temp(
             progress: false,
             end_time_s,
             stop: StopFlag::new(),
+            // The region of interest's guard, every step of every run here.
+            verify_contact_region: true,
         },
     )
     .unwrap();
@@ -406,6 +408,7 @@ fn simulate_in(dir: &Path, loaded: &squeal::rolling::case::LoadedCase) -> squeal
             progress: false,
             end_time_s: None,
             stop: StopFlag::new(),
+            verify_contact_region: false,
         },
     )
     .map(|_| ())
@@ -475,6 +478,7 @@ fn stop_during_the_preload_is_an_interruption() {
             progress: false,
             end_time_s: None,
             stop,
+            verify_contact_region: false,
         },
     )
     .expect_err("a stopped preload must not start the run");
@@ -498,6 +502,7 @@ fn resumed_run_matches_the_uninterrupted_one() {
         progress: false,
         end_time_s: end,
         stop: StopFlag::new(),
+        verify_contact_region: false,
     };
     simulate(&loaded, &opts("whole", false, None)).unwrap();
     simulate(&loaded, &opts("split", false, Some(0.001))).unwrap();
@@ -509,6 +514,7 @@ fn resumed_run_matches_the_uninterrupted_one() {
         &loaded,
         &SimulateOptions {
             stop,
+            verify_contact_region: false,
             ..opts("split", true, None)
         },
     )
@@ -817,6 +823,7 @@ fn demo_runs() -> std::path::PathBuf {
                 progress: false,
                 end_time_s: None,
                 stop: StopFlag::new(),
+                verify_contact_region: false,
             },
         )
         .unwrap();

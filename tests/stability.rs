@@ -963,6 +963,7 @@ fn demo80_run(case: &str) -> std::path::PathBuf {
             progress: false,
             end_time_s: None,
             stop: StopFlag::new(),
+            verify_contact_region: false,
         },
     )
     .unwrap();

@@ -35,11 +35,28 @@ pub struct RollingBenchArgs {
     /// Steps timed per part, 1 to 1000000.
     #[arg(long, default_value_t = 200)]
     pub steps: usize,
+    /// Contact search: `region` (the slaves near the rail, the default) or `full` (every
+    /// slave every step, for comparison).
+    #[arg(long, value_enum, default_value_t = SearchArg::Region)]
+    pub contact_search: SearchArg,
+}
+
+/// `--contact-search`.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum SearchArg {
+    /// Region of interest.
+    Region,
+    /// Every slave every step.
+    Full,
 }
 
 fn rolling(a: RollingBenchArgs) -> Result<()> {
     let loaded = squeal::rolling::load_case(&a.scenario)?;
-    let p = squeal::rolling::bench::step_profile(&loaded, a.steps)?;
+    let search = match a.contact_search {
+        SearchArg::Region => squeal::contact::ContactSearch::Region,
+        SearchArg::Full => squeal::contact::ContactSearch::Full,
+    };
+    let p = squeal::rolling::bench::step_profile(&loaded, a.steps, search)?;
     println!(
         "nodes={} elements={} contact_slaves={} threads={} dt_s={:.4e} ({}) steps={}",
         p.nodes,
@@ -51,6 +68,10 @@ fn rolling(a: RollingBenchArgs) -> Result<()> {
         p.steps
     );
     println!("levels=1 (single rate: every element at the smallest stable step)");
+    println!(
+        "contact_search={:?} searched_slaves={} region_rebuild_ms={:.3}",
+        a.contact_search, p.searched_slaves, p.region_rebuild_ms
+    );
     println!(
         "elements_ms={:.3} contact_ms={:.3} rest_ms={:.3} contact_share={:.3}",
         p.elements_ms, p.contact_ms, p.rest_ms, p.contact_share

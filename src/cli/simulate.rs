@@ -123,6 +123,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             progress: !args.quiet,
             end_time_s: args.end_time_ms.map(|t| t * 1e-3),
             stop: stop.clone(),
+            verify_contact_region: false,
         };
         println!(
             "case {} ({}) -> {}",

@@ -1,7 +1,9 @@
 //! Node-to-segment penalty contact with Coulomb friction (Yang & Li 2019; docs/physics.md, "Explicit engine"), as an
 //! auxiliary force of the explicit engine.
 //!
-//! Each step, for each slave node (wheel tread):
+//! Each step, for each slave node (wheel tread) of the region of interest ([`region`]: the
+//! slaves near the master surface, chosen again when a slave has moved a median face size;
+//! the others cannot touch a face before then, and the result is the full search's bit for bit):
 //! 1. candidate master faces (rail top quads) come from a bucket grid over the faces' bounding
 //!    boxes, rebuilt only when some node has moved more than half the search margin since the
 //!    last build;
@@ -24,6 +26,7 @@
 #![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod patch;
+pub mod region;
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -32,6 +35,9 @@ use crate::explicit::AuxForces;
 use crate::mesh::tie::project_on_face;
 use crate::mesh::{Mesh, P3};
 use crate::{Error, Result};
+
+pub use region::ContactSearch;
+use region::{Region, SlaveForce, NO_FORCE};
 
 pub use crate::friction::FrictionLaw;
 
@@ -99,7 +105,14 @@ pub struct ContactPair {
     master_nodes: Vec<usize>,
     /// Their positions when the grid was built (aligned with `master_nodes`).
     positions_at_build: Vec<P3>,
-    forces: Vec<(P3, [f64; 4], u32)>,
+    forces: Vec<SlaveForce>,
+    /// Which slaves are searched each step ([`ContactSearch::Region`] by default).
+    pub search: ContactSearch,
+    /// Run the region's guard ([`region::Region::misses`]) every this many steps and panic
+    /// on a miss (0: never). Debug builds check every 64 steps; tests ask for every step.
+    pub verify_region_every_steps: usize,
+    steps: usize,
+    region: Region,
 }
 
 /// How a slave surface lies against its master before any load
@@ -143,6 +156,47 @@ impl BucketGrid {
         }
         Some(c)
     }
+    /// Whether `x` lies inside the (widened) box of some face: what the search tests first.
+    fn inside_some_box(&self, x: P3) -> bool {
+        self.candidates(x).iter().any(|&f| {
+            let (lo, hi) = (self.face_lo[f as usize], self.face_hi[f as usize]);
+            (0..3).all(|d| x[d] >= lo[d] && x[d] <= hi[d])
+        })
+    }
+
+    /// Whether `x` lies within `margin` (along every axis) of some face's box: the cells
+    /// overlapping `x +- margin` are searched, so any face whose box a point within the margin
+    /// falls into is seen (it is listed in that point's cell).
+    fn near_some_box(&self, x: P3, margin: f64) -> bool {
+        // Rounding headroom: the region's move check uses `margin` itself.
+        let m = margin * (1.0 + 1e-9) + 1e-12;
+        let mut range = [(0usize, 0usize); 3];
+        for d in 0..3 {
+            let a = ((x[d] - m - self.origin[d]) / self.cell_m).floor();
+            let b = ((x[d] + m - self.origin[d]) / self.cell_m).floor();
+            if !(b >= 0.0) || a >= self.dims[d] as f64 {
+                return false; // the whole neighbourhood is outside the grid
+            }
+            range[d] = (a.max(0.0) as usize, (b as usize).min(self.dims[d] - 1));
+        }
+        for z in range[2].0..=range[2].1 {
+            for y in range[1].0..=range[1].1 {
+                for xc in range[0].0..=range[0].1 {
+                    let c = xc + self.dims[0] * (y + self.dims[1] * z);
+                    let faces = &self.items[self.start[c] as usize..self.start[c + 1] as usize];
+                    let near = faces.iter().any(|&f| {
+                        let (lo, hi) = (self.face_lo[f as usize], self.face_hi[f as usize]);
+                        (0..3).all(|d| x[d] >= lo[d] - m && x[d] <= hi[d] + m)
+                    });
+                    if near {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+
     fn candidates(&self, x: P3) -> &[u32] {
         match self.cell_of(x) {
             Some(c) => {
@@ -426,7 +480,13 @@ impl ContactPair {
             grid: BucketGrid::default(),
             master_nodes,
             positions_at_build: Vec::new(),
-            forces: vec![([0.0; 3], [0.0; 4], u32::MAX); n_slaves],
+            forces: vec![NO_FORCE; n_slaves],
+            search: ContactSearch::Region,
+            verify_region_every_steps: if cfg!(debug_assertions) { 64 } else { 0 },
+            steps: 0,
+            // A slave may move one median face size before the region is rebuilt: on the paper
+            // model a few hundred steps of the rolling tread.
+            region: Region::new(n_slaves, median_face_size),
         };
         let zero = vec![[0.0; 3]; mesh.nodes.len()];
         pair.build_grid(&zero);
@@ -714,6 +774,23 @@ impl ContactPair {
             face_hi: boxes.iter().map(|b| b.1).collect(),
         };
         self.positions_at_build = self.master_nodes.iter().map(|&n| pos(n)).collect();
+        // The faces' boxes changed: the region is chosen again against them.
+        self.region.valid = false;
+    }
+
+    /// Slaves searched in the last step (all of them with [`ContactSearch::Full`]).
+    pub fn searched_slaves(&self) -> usize {
+        self.region.slaves.len()
+    }
+
+    /// Makes the next step choose the region of interest afresh.
+    pub fn invalidate_region(&mut self) {
+        self.region.valid = false;
+    }
+
+    /// Times the region of interest was built so far.
+    pub fn region_rebuilds(&self) -> usize {
+        self.region.rebuilds
     }
 
     fn needs_rebuild(&self, u: &[P3]) -> bool {
@@ -810,6 +887,41 @@ impl AuxForces for ContactPair {
             // Rare (when nodes moved half a face): allocation here is outside the steady loop.
             self.build_grid(u);
         }
+        let (reference, slaves) = (&self.reference, &self.slaves);
+        let position = |k: usize| -> P3 {
+            let n = slaves[k];
+            [0, 1, 2].map(|i| reference[n][i] + u[n][i])
+        };
+        if self.region.needs_rebuild(&position) {
+            self.region.rebuild(
+                &self.grid,
+                self.search,
+                &position,
+                &mut self.state,
+                &mut self.forces,
+            );
+        }
+        self.steps += 1;
+        if self.verify_region_every_steps > 0
+            && self.steps.is_multiple_of(self.verify_region_every_steps)
+        {
+            let misses = self.region.misses(&self.grid, &position);
+            assert!(
+                misses == 0,
+                "contact `{}`: {misses} slaves outside the region of interest lie inside a \
+                 master face's box at step {}",
+                self.name,
+                self.steps
+            );
+        }
+        // The region's slaves, gathered so that parallel chunks own their states.
+        let region = &mut self.region;
+        region.state.clear();
+        region.forces.clear();
+        for &k in &region.slaves {
+            region.state.push(self.state[k as usize]);
+            region.forces.push(self.forces[k as usize]);
+        }
         // Slaves in parallel chunks: each slave's search, penalty and friction update touch only
         // its own state, so the result does not depend on the thread count.
         let ctx = SlaveContext {
@@ -825,24 +937,33 @@ impl AuxForces for ContactPair {
             v,
             dt_s,
         };
-        self.state
+        let indices = &region.slaves;
+        region
+            .state
             .par_chunks_mut(SLAVE_CHUNK)
-            .zip(self.forces.par_chunks_mut(SLAVE_CHUNK))
+            .zip(region.forces.par_chunks_mut(SLAVE_CHUNK))
             .enumerate()
             .for_each(|(c, (states, forces))| {
                 for (j, (st, out)) in states.iter_mut().zip(forces.iter_mut()).enumerate() {
-                    let new = ctx.update(c * SLAVE_CHUNK + j, st);
+                    let new = ctx.update(indices[c * SLAVE_CHUNK + j] as usize, st);
                     // A slave out of contact in both steps keeps its entry unwritten.
                     if new.2 != u32::MAX || out.2 != u32::MAX {
                         *out = new;
                     }
                 }
             });
+        for (j, &k) in region.slaves.iter().enumerate() {
+            self.state[k as usize] = region.state[j];
+            self.forces[k as usize] = region.forces[j];
+        }
         // Scatter (serial: slaves share master nodes), and the invariants' monitors over the
-        // slaves in contact.
+        // slaves in contact: only the region's can be (the others' entries are empty), visited
+        // in slave order as a loop over every slave would.
         let (mut largest_ratio, mut deepest) =
             (self.largest_shear_over_bound, self.deepest_penetration_m);
-        for (k, &s) in self.slaves.iter().enumerate() {
+        for &k in &self.region.slaves {
+            let k = k as usize;
+            let s = self.slaves[k];
             let (f, w, fi) = self.forces[k];
             if fi == u32::MAX {
                 continue;
@@ -894,6 +1015,7 @@ impl AuxForces for ContactPair {
             s.active = chunk[0] > 0.5;
             s.tangential_force_n = [chunk[1], chunk[2], chunk[3]];
         }
+        self.region.valid = false;
         Ok(())
     }
 }

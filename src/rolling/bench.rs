@@ -23,8 +23,14 @@ pub struct StepProfile {
     pub nodes: usize,
     /// Elements.
     pub elements: usize,
-    /// Contact slave nodes tested every step.
+    /// Contact slave nodes.
     pub contact_slaves: usize,
+    /// Of those, the ones searched each step (the region of interest; all with the full
+    /// search).
+    pub searched_slaves: usize,
+    /// One rebuild of the region of interest (ms): a rolling run pays it each time a slave
+    /// has moved a median face size.
+    pub region_rebuild_ms: f64,
     /// Threads (rayon).
     pub threads: usize,
     /// Time step (s) of the built model (before the preload).
@@ -51,8 +57,13 @@ pub struct StepProfile {
     pub projected_time_loop_s: f64,
 }
 
-/// Times `steps` steps of each part of the case's rolling step.
-pub fn step_profile(loaded: &LoadedCase, steps: usize) -> Result<StepProfile> {
+/// Times `steps` steps of each part of the case's rolling step, with the contact search
+/// `search`.
+pub fn step_profile(
+    loaded: &LoadedCase,
+    steps: usize,
+    search: crate::contact::ContactSearch,
+) -> Result<StepProfile> {
     if !(1..=1_000_000).contains(&steps) {
         return Err(Error::input(
             "command line",
@@ -61,6 +72,7 @@ pub fn step_profile(loaded: &LoadedCase, steps: usize) -> Result<StepProfile> {
         ));
     }
     let mut m = build(loaded)?;
+    m.contact.pair.search = search;
     for _ in 0..WARM_UP_STEPS {
         m.solver.step_with(&mut m.contact, false, false)?;
     }
@@ -79,6 +91,15 @@ pub fn step_profile(loaded: &LoadedCase, steps: usize) -> Result<StepProfile> {
             .add_forces(t, dt, &m.solver.u, &m.solver.v, &mut force);
     }
     let contact_s = started.elapsed().as_secs_f64() / steps as f64;
+    // One rebuild of the region: a contact evaluation with the region invalidated, less a
+    // plain one.
+    m.contact.pair.invalidate_region();
+    let started = Instant::now();
+    let (t, dt) = (m.solver.time_s, m.solver.dt_s);
+    m.contact
+        .add_forces(t, dt, &m.solver.u, &m.solver.v, &mut force);
+    let region_rebuild_s = (started.elapsed().as_secs_f64() - contact_s).max(0.0);
+    let searched_slaves = m.contact.pair.searched_slaves();
     let started = Instant::now();
     for _ in 0..steps {
         m.solver.step_with(&mut m.contact, false, false)?;
@@ -90,6 +111,8 @@ pub fn step_profile(loaded: &LoadedCase, steps: usize) -> Result<StepProfile> {
         nodes: m.solver.u.len(),
         elements,
         contact_slaves: m.info.contact_slaves,
+        searched_slaves,
+        region_rebuild_ms: region_rebuild_s * 1e3,
         threads: rayon::current_num_threads(),
         time_step_s: m.solver.dt_s,
         time_step_limited_by: m.info.time_step_limited_by.clone(),

@@ -67,6 +67,10 @@ pub struct SimulateOptions {
     /// status is `interrupted` (resume goes on); during the preload the result is
     /// [`Error::Interrupted`].
     pub stop: StopFlag,
+    /// Check every step that the contact's region of interest holds every slave the full
+    /// search would test (a panic names the step otherwise): the guard of the region, for
+    /// tests. Debug builds check every 64 steps anyway.
+    pub verify_contact_region: bool,
 }
 
 /// `run.json`: what was run and what came out.
@@ -176,6 +180,9 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
     prepare_run_directory(opts)?;
     let mut m = build(&loaded_case)?;
     m.contact.out_dir = opts.out_dir.clone();
+    if opts.verify_contact_region {
+        m.contact.pair.verify_region_every_steps = 1;
+    }
     let mut preload = None;
     if !opts.resume {
         if let Some(dt) = case.preload.time_step_s {
