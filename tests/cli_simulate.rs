@@ -240,6 +240,11 @@ fn bench_rolling_splits_a_step_and_refuses_bad_step_counts() {
     let share = value("contact_share");
     assert!(share > 0.0 && share < 1.5, "{text}");
     assert_eq!(value("elements"), 9702.0, "the tiny model's element count");
+    // The region of interest searches part of the slaves; the level partition's work fraction
+    // lies in (0, 1].
+    assert!(value("searched_slaves") < value("contact_slaves"), "{text}");
+    let work = value("multi_rate_element_work");
+    assert!(work > 0.0 && work <= 1.0, "{text}");
     let bad = bench("0");
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--steps"));

@@ -68,6 +68,20 @@ fn rolling(a: RollingBenchArgs) -> Result<()> {
         p.steps
     );
     println!("levels=1 (single rate: every element at the smallest stable step)");
+    let counts: Vec<String> = p
+        .level_counts
+        .iter()
+        .enumerate()
+        .map(|(k, c)| format!("{k}:{c}"))
+        .collect();
+    println!(
+        "step_levels elements per level (power-of-two partition, contact nodes at level 0) {} \
+         multi_rate_element_work={:.3} of single rate (not integrated yet; {:.3} if the contact's \
+         nodes followed their elements)",
+        counts.join(" "),
+        p.element_work_fraction,
+        p.element_work_fraction_free_contact
+    );
     println!(
         "contact_search={:?} searched_slaves={} region_rebuild_ms={:.3}",
         a.contact_search, p.searched_slaves, p.region_rebuild_ms

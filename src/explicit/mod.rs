@@ -19,6 +19,7 @@ pub mod bench;
 mod colour;
 pub mod element;
 pub mod energy;
+pub mod levels;
 pub mod linearised;
 pub mod model;
 pub mod preload;

@@ -55,6 +55,13 @@ pub struct StepProfile {
     pub case_steps: usize,
     /// Projected wall time of the case's time loop (s).
     pub projected_time_loop_s: f64,
+    /// Elements per power-of-two step level (contact nodes at the finest;
+    /// [`crate::explicit::levels`]).
+    pub level_counts: Vec<usize>,
+    /// Element work of multi-rate stepping over these levels, relative to single-rate.
+    pub element_work_fraction: f64,
+    /// The same without holding the contact's nodes at the finest level.
+    pub element_work_fraction_free_contact: f64,
 }
 
 /// Times `steps` steps of each part of the case's rolling step, with the contact search
@@ -106,6 +113,21 @@ pub fn step_profile(
     }
     let step_s = started.elapsed().as_secs_f64() / steps as f64;
     let elements = m.solver.model.elements.len();
+    // Power-of-two levels of the elements' stable steps, the contact's nodes at the finest.
+    let mut finest: Vec<usize> = m.contact.pair.slaves.clone();
+    finest.extend(m.contact.pair.faces.iter().flatten());
+    let transits = super::build::element_transits_s(&m.solver.model);
+    let partition = |finest: &[usize]| {
+        crate::explicit::levels::partition(
+            &m.solver.model.mesh.elements,
+            &transits,
+            m.solver.u.len(),
+            finest,
+            8,
+        )
+    };
+    let levels = partition(&finest);
+    let free_contact = partition(&[]);
     let case_steps = (loaded.case.end_time_s / m.solver.dt_s).ceil() as usize;
     Ok(StepProfile {
         nodes: m.solver.u.len(),
@@ -125,5 +147,8 @@ pub fn step_profile(
         contact_share: contact_s / step_s,
         case_steps,
         projected_time_loop_s: step_s * case_steps as f64,
+        level_counts: levels.counts,
+        element_work_fraction: levels.element_work_fraction,
+        element_work_fraction_free_contact: free_contact.element_work_fraction,
     })
 }
