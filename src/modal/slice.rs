@@ -1,7 +1,7 @@
 //! Spectrum slicing: the band cut into slices, one shift per slice (`L D Lᵀ` inside the band),
 //! and the block Lanczos of one slice, which returns exactly the slice's Sturm count.
 
-use super::block::{add_a_c, m_block, m_orthogonalise_lanczos, next_block, start_block};
+use super::block::{a_c, m_block, m_orthogonalise_lanczos, next_block, start_block};
 use super::dense::ritz;
 use super::factor::ShiftInvert;
 use super::residual::rounding_floor;
@@ -104,9 +104,11 @@ pub(super) fn solve_slice(
     // Basis Q (M-orthonormal, column-major n x k), columns of H = Qᵀ M Op Q (upper part: the
     // coefficients of column c against columns 0..=end of its block).
     let mut q: Vec<f64> = Vec::new();
-    let mut mq: Vec<f64> = Vec::new();
+    // M Q of the last two blocks only (the local pass of the Lanczos orthogonalisation): the
+    // full pass forms Qᵀ (M w) instead, so the basis is stored once.
+    let mut mq_recent: Vec<f64> = Vec::with_capacity(2 * n * b);
     let mut h_cols: Vec<Vec<f64>> = Vec::new();
-    let (mut block, mut block_m) = start_block(m, &q, &mq, n, b, 1 + 97 * slice_index as u64)?;
+    let (mut block, mut block_m) = start_block(m, &q, n, b, 1 + 97 * slice_index as u64)?;
     // Null-direction scale: ||Op v||_M <= 1 / |sigma| for M-normalised v below the spectrum
     // (K semi-definite); inside it ||Op|| is larger, so this threshold only gets stricter.
     let scale = 1.0 / slice.sigma.abs().max(1e-300);
@@ -116,14 +118,17 @@ pub(super) fn solve_slice(
     let dim = loop {
         let j0 = q.len() / n;
         q.extend_from_slice(&block);
-        mq.extend_from_slice(&block_m);
+        if mq_recent.len() == 2 * n * b {
+            mq_recent.drain(..n * b);
+        }
+        mq_recent.extend_from_slice(&block_m);
         let k_dim = j0 + b;
         blocks += 1;
         let mut w = vec![0.0; n * b];
         let t0 = Instant::now();
         op.apply_block(&block_m, &mut w);
         let t1 = Instant::now();
-        let mut c = m_orthogonalise_lanczos(&q, &mq, &mut w, n, 2 * b);
+        let mut c = m_orthogonalise_lanczos(&q, &mq_recent, m, &mut w, n);
         let t2 = Instant::now();
         // With the basis spanning the whole space the residual block is zero.
         let beta = if k_dim >= n {
@@ -132,7 +137,6 @@ pub(super) fn solve_slice(
             next_block(
                 m,
                 &q,
-                &mq,
                 &mut w,
                 &mut block_m,
                 &mut c,
@@ -235,9 +239,9 @@ pub(super) fn solve_slice(
     let n_wanted = wanted.len();
     let u_wanted = Mat::<f64>::from_fn(dim, n_wanted, |r, c| u[(r, wanted[c])]);
     let mut x = vec![0.0; n * n_wanted];
-    add_a_c(&mut x, &q[..n * dim], u_wanted.as_ref(), 1.0, n);
+    a_c(&mut x, &q[..n * dim], u_wanted.as_ref(), 1.0, n);
     drop(q);
-    drop(mq);
+    drop(mq_recent);
     let mut y = vec![0.0; n * n_wanted];
     if n_wanted > 0 {
         let mut mx = vec![0.0; x.len()];
