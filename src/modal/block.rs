@@ -102,23 +102,19 @@ pub(super) fn at_b(a: &[f64], b: &[f64], n: usize) -> Mat<f64> {
 /// shared zero page) and then write it: a copy-on-write fault with a TLB shootdown to the other
 /// cores per page, 10-15 % of a 294 k dof solve (measured 2026-11-26 with perf).
 pub(super) fn a_c(b: &mut [f64], a: &[f64], c: MatRef<'_, f64>, alpha: f64, n: usize) {
-    let (ka, kb) = (a.len() / n, b.len() / n);
-    matmul(
-        MatMut::from_column_major_slice_mut(b, n, kb),
-        Accum::Replace,
-        MatRef::from_column_major_slice(a, n, ka),
-        c,
-        alpha,
-        Par::rayon(0),
-    );
+    product_a_c(b, a, c, alpha, n, Accum::Replace);
 }
 
 /// `B += alpha A C` (A: n x ka column-major, C: ka x kb, B: n x kb column-major).
 pub(super) fn add_a_c(b: &mut [f64], a: &[f64], c: MatRef<'_, f64>, alpha: f64, n: usize) {
+    product_a_c(b, a, c, alpha, n, Accum::Add);
+}
+
+fn product_a_c(b: &mut [f64], a: &[f64], c: MatRef<'_, f64>, alpha: f64, n: usize, accum: Accum) {
     let (ka, kb) = (a.len() / n, b.len() / n);
     matmul(
         MatMut::from_column_major_slice_mut(b, n, kb),
-        Accum::Add,
+        accum,
         MatRef::from_column_major_slice(a, n, ka),
         c,
         alpha,

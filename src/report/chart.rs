@@ -76,6 +76,25 @@ pub struct LineChart {
 }
 
 impl Series {
+    /// Adds a markers-only series of `points` (x, y) to `series`, unless it is empty.
+    pub fn push_points(
+        series: &mut Vec<Series>,
+        label: &str,
+        points: impl Iterator<Item = (f64, f64)>,
+        color: usize,
+    ) {
+        let (x, y): (Vec<f64>, Vec<f64>) = points.unzip();
+        if !x.is_empty() {
+            series.push(Series {
+                label: label.into(),
+                x,
+                y,
+                stroke: Stroke::Points,
+                color,
+            });
+        }
+    }
+
     /// A solid line.
     pub fn line(label: &str, x: Vec<f64>, y: Vec<f64>, color: usize) -> Self {
         Series {

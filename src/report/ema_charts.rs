@@ -53,20 +53,15 @@ pub fn write_stabilisation_chart(
         (PoleStatus::Frequency, "stable frequency", 1),
         (PoleStatus::Stable, "stable frequency and damping", 2),
     ] {
-        let (x, y): (Vec<f64>, Vec<f64>) = points
-            .iter()
-            .filter(|p| p.status == status)
-            .map(|p| (p.pole.frequency_hz, p.order as f64))
-            .unzip();
-        if !x.is_empty() {
-            series.push(Series {
-                label: label.into(),
-                x,
-                y,
-                stroke: Stroke::Points,
-                color,
-            });
-        }
+        Series::push_points(
+            &mut series,
+            label,
+            points
+                .iter()
+                .filter(|p| p.status == status)
+                .map(|p| (p.pole.frequency_hz, p.order as f64)),
+            color,
+        );
     }
     for (k, m) in selected.iter().enumerate() {
         series.push(Series {

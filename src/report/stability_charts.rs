@@ -92,21 +92,16 @@ pub fn write_eigenvalue_map(
         (Body::Wheel, "wheel-dominated", 0),
         (Body::Rail, "rail-dominated", 1),
     ] {
-        let (x, y): (Vec<f64>, Vec<f64>) = point
-            .eigen
-            .iter()
-            .filter(|e| e.dominant().body == body)
-            .map(|e| (e.frequency_hz, e.growth_rate_per_s))
-            .unzip();
-        if !x.is_empty() {
-            series.push(Series {
-                label: label.into(),
-                x,
-                y,
-                stroke: Stroke::Points,
-                color,
-            });
-        }
+        Series::push_points(
+            &mut series,
+            label,
+            point
+                .eigen
+                .iter()
+                .filter(|e| e.dominant().body == body)
+                .map(|e| (e.frequency_hz, e.growth_rate_per_s)),
+            color,
+        );
     }
     let f_max = point
         .eigen
