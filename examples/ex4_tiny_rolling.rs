@@ -9,7 +9,7 @@
 //!
 //!     cargo run --release --example ex4_tiny_rolling [OUT_DIR]
 
-use squeal::rolling::{load_case, simulate, SimulateOptions, StopFlag};
+use squeal::rolling::{load_case, simulate, SimulateOptions};
 
 fn main() -> squeal::Result<()> {
     let out = std::env::args()
@@ -18,18 +18,7 @@ fn main() -> squeal::Result<()> {
         .unwrap_or_else(|| std::env::temp_dir().join("squeal-ex4"));
     let _ = std::fs::remove_dir_all(&out);
     let case = load_case(std::path::Path::new("data/cases/case3-ci.json"))?;
-    let record = simulate(
-        &case,
-        &SimulateOptions {
-            out_dir: out.clone(),
-            resume: false,
-            overwrite: false,
-            progress: false,
-            end_time_s: None,
-            stop: StopFlag::new(),
-            verify_contact_region: false,
-        },
-    )?;
+    let record = simulate(&case, &SimulateOptions::new(out.clone()))?;
     println!(
         "{}: {} elements, {} steps of {:.0} ns, status {}",
         record.case,

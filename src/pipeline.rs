@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use crate::report::run_report::build_report;
-use crate::rolling::{simulate, LoadedCase, SimulateOptions, StopFlag};
+use crate::rolling::{simulate, LoadedCase, SimulateOptions};
 use crate::{Error, Result};
 
 /// A stage that writes `modes.json` into the run directory it is given.
@@ -83,13 +83,10 @@ pub fn run_pipeline(
     let record = simulate(
         case,
         &SimulateOptions {
-            out_dir: run_dir.clone(),
-            resume: false,
             overwrite: true,
             progress: opts.progress,
             end_time_s: opts.end_time_s,
-            stop: StopFlag::new(),
-            verify_contact_region: false,
+            ..SimulateOptions::new(run_dir.clone())
         },
     )?;
     stages.push(("rolling simulation".to_string(), t.elapsed().as_secs_f64()));

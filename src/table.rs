@@ -74,3 +74,17 @@ impl Table {
             .map(|k| (self.headers[k].as_str(), self.columns[k].as_slice()))
     }
 }
+
+/// `column` at `time_s` (samples at times `t`, ascending): linear between the samples around
+/// it, the end values outside.
+pub fn interpolate(t: &[f64], column: &[f64], time_s: f64) -> f64 {
+    let k = t.partition_point(|&x| x <= time_s);
+    if k == 0 {
+        return column[0];
+    }
+    if k >= t.len() {
+        return column[t.len() - 1];
+    }
+    let w = (time_s - t[k - 1]) / (t[k] - t[k - 1]);
+    column[k - 1] + w * (column[k] - column[k - 1])
+}

@@ -446,9 +446,10 @@ fn initial_clearance_measures_the_gap_and_the_facing() {
 
 /// The region of interest searches only the slaves near the master surface, and gives the
 /// full search's result bit for bit: a tall block (50 x 50 x 80 mm, every node a slave, so its
-/// upper nodes lie far above the plate) pushed to slide 1 m/s over the plate for 60 mm, run
-/// once with the full search and once with the region, its guard checked every step. The
-/// block slides several margins, so the region is rebuilt along the way.
+/// upper nodes lie far above the plate) lifted 30 mm and thrown at the plate (1 m/s along it,
+/// 1 m/s down), so that slaves enter the faces' boxes from outside; run once with the full
+/// search and once with the region, its guard checked every step. The block slides several
+/// margins, so the region is rebuilt along the way.
 #[test]
 fn region_of_interest_search_matches_the_full_search_step_by_step() {
     use squeal::contact::ContactSearch;
@@ -461,6 +462,10 @@ fn region_of_interest_search_matches_the_full_search_step_by_step() {
             [0.1, 0.075],
             2,
         );
+        let mut mesh = mesh;
+        for p in &mut mesh.nodes[offset..] {
+            p[2] += 0.03;
+        }
         let slaves: Vec<usize> = (offset..mesh.nodes.len()).collect();
         let mut pair = steel_pair(&mesh, slaves, faces, 0.1, FrictionLaw::Coulomb { mu: 0.3 });
         pair.search = search;
@@ -475,7 +480,7 @@ fn region_of_interest_search_matches_the_full_search_step_by_step() {
         model.register_time_step_bound("contact", bound);
         let mut solver = Solver::new(model, None).unwrap();
         for &n in &block {
-            solver.v[n][0] = 1.0;
+            solver.v[n] = [1.0, 0.0, -1.0];
         }
         let mut history = Vec::new();
         let mut smallest_region = usize::MAX;
@@ -508,12 +513,8 @@ fn region_of_interest_search_matches_the_full_search_step_by_step() {
     for (step, (a, b)) in full.iter().zip(&region).enumerate() {
         assert!(a == b, "slave states differ at step {step}");
     }
-    // The block chatters on its penalty springs, but touches the plate most of the time.
+    // The thrown block hits the plate (and bounces off it): the comparison covers contact.
     let touching = full.iter().filter(|s| s.iter().any(|s| s.active)).count();
-    assert!(
-        2 * touching > full.len(),
-        "in contact {touching} of {} steps",
-        full.len()
-    );
+    assert!(touching > 0, "the block never touched the plate");
     assert!(u_full == u_region, "displacements differ");
 }

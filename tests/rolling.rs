@@ -26,14 +26,10 @@ fn run_in_temp(
     let record = simulate(
         loaded,
         &SimulateOptions {
-            out_dir: dir.clone(),
-            resume: false,
-            overwrite: false,
-            progress: false,
             end_time_s,
-            stop: StopFlag::new(),
             // The region of interest's guard, every step of every run here.
             verify_contact_region: true,
+            ..SimulateOptions::new(dir.clone())
         },
     )
     .unwrap();
@@ -399,19 +395,7 @@ fn edited_tiny_case(
 }
 
 fn simulate_in(dir: &Path, loaded: &squeal::rolling::case::LoadedCase) -> squeal::Result<()> {
-    simulate(
-        loaded,
-        &SimulateOptions {
-            out_dir: dir.join("out"),
-            resume: false,
-            overwrite: false,
-            progress: false,
-            end_time_s: None,
-            stop: StopFlag::new(),
-            verify_contact_region: false,
-        },
-    )
-    .map(|_| ())
+    simulate(loaded, &SimulateOptions::new(dir.join("out"))).map(|_| ())
 }
 
 /// A wheel placed 0.8 mm above the rail passes the check on the meshes (at most 1 mm) but is
@@ -472,13 +456,8 @@ fn stop_during_the_preload_is_an_interruption() {
     let err = simulate(
         &loaded,
         &SimulateOptions {
-            out_dir: dir.clone(),
-            resume: false,
-            overwrite: false,
-            progress: false,
-            end_time_s: None,
             stop,
-            verify_contact_region: false,
+            ..SimulateOptions::new(dir.clone())
         },
     )
     .expect_err("a stopped preload must not start the run");
@@ -496,13 +475,9 @@ fn resumed_run_matches_the_uninterrupted_one() {
     let base = std::env::temp_dir().join(format!("squeal_rolling_resume_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&base);
     let opts = |dir: &str, resume: bool, end: Option<f64>| SimulateOptions {
-        out_dir: base.join(dir),
         resume,
-        overwrite: false,
-        progress: false,
         end_time_s: end,
-        stop: StopFlag::new(),
-        verify_contact_region: false,
+        ..SimulateOptions::new(base.join(dir))
     };
     simulate(&loaded, &opts("whole", false, None)).unwrap();
     simulate(&loaded, &opts("split", false, Some(0.001))).unwrap();
@@ -514,7 +489,6 @@ fn resumed_run_matches_the_uninterrupted_one() {
         &loaded,
         &SimulateOptions {
             stop,
-            verify_contact_region: false,
             ..opts("split", true, None)
         },
     )
@@ -816,15 +790,7 @@ fn demo_runs() -> std::path::PathBuf {
         let loaded = load_case(Path::new(&format!("data/cases/case{n}-demo.json"))).unwrap();
         let record = simulate(
             &loaded,
-            &SimulateOptions {
-                out_dir: dir.join(format!("case{n}-demo")),
-                resume: false,
-                overwrite: false,
-                progress: false,
-                end_time_s: None,
-                stop: StopFlag::new(),
-                verify_contact_region: false,
-            },
+            &SimulateOptions::new(dir.join(format!("case{n}-demo"))),
         )
         .unwrap();
         assert_eq!(record.run.status, "completed", "case {n}");
@@ -841,7 +807,8 @@ fn demo_runs() -> std::path::PathBuf {
 #[test]
 #[ignore]
 fn demo_cases_reach_the_papers_operating_point() {
-    use squeal::report::table3::{interpolate, operating_point};
+    use squeal::report::table3::operating_point;
+    use squeal::table::interpolate;
     let dir = demo_runs();
     let run = |n: u32| dir.join(format!("case{n}-demo"));
     for n in 1..=5 {

@@ -943,7 +943,7 @@ fn explicit_slider_on_a_falling_friction_belt_grows_at_the_predicted_rate() {
 /// DIR/caseN-demo80`, 80 ms on the demo80 meshes, 11-17 minutes each): read from the directory
 /// `SQUEAL_DEMO80_RUNS` names, else run here into a temporary directory.
 fn demo80_run(case: &str) -> std::path::PathBuf {
-    use squeal::rolling::{simulate, SimulateOptions, StopFlag};
+    use squeal::rolling::{simulate, SimulateOptions};
     let name = format!("{case}-demo80");
     if let Some(dir) = std::env::var_os("SQUEAL_DEMO80_RUNS") {
         return std::path::PathBuf::from(dir).join(name);
@@ -954,19 +954,7 @@ fn demo80_run(case: &str) -> std::path::PathBuf {
     let loaded =
         squeal::model::case::load_case(std::path::Path::new(&format!("data/cases/{name}.json")))
             .unwrap();
-    let record = simulate(
-        &loaded,
-        &SimulateOptions {
-            out_dir: dir.clone(),
-            resume: false,
-            overwrite: false,
-            progress: false,
-            end_time_s: None,
-            stop: StopFlag::new(),
-            verify_contact_region: false,
-        },
-    )
-    .unwrap();
+    let record = simulate(&loaded, &SimulateOptions::new(dir.clone())).unwrap();
     assert_eq!(record.run.status, "completed", "{name}");
     dir
 }

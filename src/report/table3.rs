@@ -16,7 +16,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use crate::table::Table;
+use crate::table::{interpolate, Table};
 use crate::Result;
 
 /// Friction coefficient of cases 1-4 (Yang & Li 2019).
@@ -264,19 +264,6 @@ pub fn operating_point(run_dir: &Path) -> Result<Option<OperatingPoint>> {
         first_saturation_ms,
         saturation_searched_from_ms: onset_s * 1e3,
     }))
-}
-
-/// `column` at `time_s`, linear between the samples around it (end values outside).
-pub fn interpolate(t: &[f64], column: &[f64], time_s: f64) -> f64 {
-    let k = t.partition_point(|&x| x <= time_s);
-    if k == 0 {
-        return column[0];
-    }
-    if k >= t.len() {
-        return column[t.len() - 1];
-    }
-    let w = (time_s - t[k - 1]) / (t[k] - t[k - 1]);
-    column[k - 1] + w * (column[k] - column[k - 1])
 }
 
 /// Patch snapshots of a run: (time s, JSON path), from their own `time_s`.

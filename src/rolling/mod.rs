@@ -73,6 +73,22 @@ pub struct SimulateOptions {
     pub verify_contact_region: bool,
 }
 
+impl SimulateOptions {
+    /// A fresh run into `out_dir`: no resume, no overwrite, no progress bar, the case's end
+    /// time, a stop flag of its own, no per-step contact guard.
+    pub fn new(out_dir: PathBuf) -> Self {
+        SimulateOptions {
+            out_dir,
+            resume: false,
+            overwrite: false,
+            progress: false,
+            end_time_s: None,
+            stop: StopFlag::new(),
+            verify_contact_region: false,
+        }
+    }
+}
+
 /// `run.json`: what was run and what came out.
 #[derive(Clone, Debug, Serialize)]
 pub struct RunRecord {

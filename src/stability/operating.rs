@@ -31,7 +31,7 @@ use crate::kalker::profiles;
 use crate::kalker::{solve_force_prescribed, Creepages, HertzContact, Method, RollingSolver};
 use crate::material::Material;
 use crate::model::case::{LateralMotion, LoadedCase};
-use crate::table::Table;
+use crate::table::{interpolate, Table};
 use crate::{Error, Result};
 
 /// Standard gravity (m/s^2), as the rolling model's preload uses it.
@@ -233,19 +233,6 @@ fn longitudinal_creepage(
     }
     let xi = 0.5 * (lo + hi);
     Ok((xi, force(xi)?))
-}
-
-/// Linear interpolation of `column` at `time_s` (the samples around it).
-fn interpolate(t: &[f64], column: &[f64], time_s: f64) -> f64 {
-    let k = t.partition_point(|&x| x <= time_s);
-    if k == 0 {
-        return column[0];
-    }
-    if k >= t.len() {
-        return column[t.len() - 1];
-    }
-    let w = (time_s - t[k - 1]) / (t[k] - t[k - 1]);
-    column[k - 1] + w * (column[k] - column[k - 1])
 }
 
 /// What a run directory says at one time: the contact forces, where the contact sits and where
