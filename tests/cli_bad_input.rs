@@ -443,6 +443,11 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             2,
             vec!["--wheel-radius-m"],
         ),
+        (
+            vec!["profile", "54e1", "--section-mm", "0.1"],
+            2,
+            vec!["--section-mm", "[0.5, 10]"],
+        ),
         (vec!["profile", "u60"], 2, vec!["u60"]),
         // ema
         (

@@ -48,6 +48,10 @@ pub struct ProfileArgs {
     /// For `contact` and `gap`: wheel rolling radius (m), in [0.2, 0.7].
     #[arg(long, default_value_t = 0.46)]
     pub wheel_radius_m: f64,
+    /// For 54E1: element size (mm) of the section mesh on which the torsion constant, shear
+    /// centre and warping constant are solved, in [0.5, 10].
+    #[arg(long, default_value_t = 1.0)]
+    pub section_mm: f64,
 }
 
 fn in_range(field: &str, value: f64, lo: f64, hi: f64) -> Result<()> {
@@ -140,6 +144,7 @@ pub fn run(args: ProfileArgs) -> Result<()> {
             }
         }
         ProfileName::Rail54e1 => {
+            in_range("--section-mm", args.section_mm, 0.5, 10.0)?;
             let pts = rail54e1::outline_points(args.step_mm);
             let (s, c) = if args.inclined {
                 rail54e1::INCLINATION_RAD.sin_cos()
@@ -163,6 +168,23 @@ pub fn run(args: ProfileArgs) -> Result<()> {
                     "I about horizontal axis {:.1} cm^4, about vertical axis {:.1} cm^4",
                     i_h / 1e4,
                     i_v / 1e4
+                );
+                let mesh = squeal::mesh::rail::rail_section(squeal::mesh::rail::RailSectionSizes {
+                    running_surface_mm: args.section_mm,
+                    body_mm: args.section_mm,
+                });
+                let p = squeal::fem::section_properties::section_properties(&mesh.body)?;
+                println!(
+                    "section mesh ({} quads of {} mm): area {:.2} cm^2; Saint-Venant torsion \
+                     constant J {:.1} cm^4, shear centre z {:.2} mm (centroid {:.2} mm), warping \
+                     constant {:.0} cm^6 (docs/stability.md)",
+                    mesh.body.quads.len(),
+                    args.section_mm,
+                    p.area / 100.0,
+                    p.torsion_constant / 1e4,
+                    p.shear_centre[1],
+                    p.centroid[1],
+                    p.warping_constant / 1e6
                 );
             }
         }

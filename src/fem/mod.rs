@@ -1,6 +1,8 @@
 //! Finite elements for modal analysis: the 8-node hexahedron (standard or incompatible modes) and
 //! the 10-node tetrahedron (stiffness, consistent and lumped mass), materials per element id, and
-//! parallel sparse assembly with constraint elimination (clamped node sets, tied interfaces).
+//! parallel sparse assembly with constraint elimination (clamped node sets, tied interfaces);
+//! and the properties of a beam's cross-section from a plane quad mesh (torsion constant, shear
+//! centre, warping constant).
 
 pub mod assembly;
 pub mod hex27;
@@ -9,6 +11,7 @@ pub mod hex8_incompatible;
 pub mod hex8_kind;
 pub mod jacobian;
 pub mod measure;
+pub mod section_properties;
 pub mod tet10;
 pub mod tet4;
 

@@ -15,9 +15,21 @@
 //!   (the rolling model holds every node of the end faces along and across the track, which
 //!   holds the section's rotation: the comparison with the FE track, [`super::rail_fe`], found
 //!   this, 10 dB at 3-4 kHz on a 1.8 m track with free ends);
-//! * lateral: Timoshenko beam in lateral bending (I_z), the pads in shear (the case's
-//!   `shear_fraction` of the vertical stiffness and damping) to the sleepers, held laterally;
-//!   rail ends clamped;
+//! * lateral: a lateral-torsional beam. The shear centre S's lateral deflection `v` and
+//!   bending rotation `psi` (Timoshenko, lateral bending `E I_z`), and the twist `phi` about S
+//!   with Saint-Venant and warping torsion, `G J phi'^2 + E I_w phi''^2` (Vlasov's thin-walled
+//!   beam; Timoshenko & Gere, Theory of Elastic Stability, 1961, ch. 5). A point at height z of
+//!   the section moves laterally by `v - (z - z_S) phi`, so the section's kinetic energy per
+//!   length is `rho A v_C^2 + rho I_pS phi^2` with `v_C = v - (z_C - z_S) phi` at the centroid
+//!   and `I_pS` the polar moment about S: the mass couples bending and twist. The pads act at
+//!   the foot: in shear (the case's `shear_fraction` of the vertical stiffness and damping) on
+//!   the foot's lateral motion `v + (z_S - z_foot) phi`, and vertically on the twist through
+//!   the foot nodes' lateral arms (`k sum share_i y_i^2`, the FE pads' node shares). Sleepers
+//!   held laterally and in roll; rail ends clamped (the FE track holds the end faces along and
+//!   across the track: no deflection, bending rotation, twist or warping). The contact is on the
+//!   crown, `v - (z_crown - z_S) phi`; the FE comparison observes the centroid. The section's
+//!   torsion constant, warping constant and shear centre come from our own solve of the 54E1
+//!   section ([`crate::fem::section_properties`]);
 //! * longitudinal: a bar (E A, rho A) on the pads in shear; rail ends held.
 //!
 //! Elements: two-node Timoshenko elements with linear interpolation of deflection and rotation,
@@ -26,11 +38,11 @@
 //! With 10 mm elements the bending wavelength at 5 kHz (about 0.4 m) has 40 elements.
 //!
 //! The receptance `H(w) = u_c / F_c` at the contact node solves `(K + i w C - w^2 M) u = e_c`
-//! ([`super::banded`]). Left out (documented in docs/stability.md): rail torsion, web bending
-//! and foot flapping (a beam has no cross-section deformation: the lateral receptance of the
-//! real rail head above about 1 kHz is larger), the cross receptances (vertical-lateral through
-//! the head's offset from the shear centre and the 1:40 inclination), the sleeper's own
-//! flexibility and rocking, and the wheel's motion along the rail (the receptance is that of a
+//! ([`super::banded`]). Left out (documented in docs/stability.md): web bending and foot
+//! flapping (a beam has no cross-section deformation: the lateral receptance of the real rail
+//! head above about 1 kHz is larger), the cross receptances (vertical-lateral through a contact
+//! off the rail's centre line and the 1:40 inclination, longitudinal-vertical through the
+//! crown's offset from the bending axis), the sleeper's own flexibility and rocking, and the wheel's motion along the rail (the receptance is that of a
 //! fixed point; the wheel covers 0.5 m of rail in the 18 ms the demo cases roll).
 
 // Index loops mirror the matrix formulas term by term.
@@ -58,13 +70,27 @@ pub struct RailSection {
     pub shear_coefficient_vertical: f64,
     /// Timoshenko shear coefficient in lateral bending.
     pub shear_coefficient_lateral: f64,
+    /// Saint-Venant torsion constant J (m^4).
+    pub torsion_constant_m4: f64,
+    /// Warping constant `I_w` about the shear centre (m^6).
+    pub warping_constant_m6: f64,
+    /// Depth of the centroid below the crown (m).
+    pub centroid_below_crown_m: f64,
+    /// Depth of the shear centre below the crown (m).
+    pub shear_centre_below_crown_m: f64,
+    /// Depth of the foot's underside below the crown: the rail's height (m).
+    pub height_m: f64,
 }
 
 impl RailSection {
     /// 54E1 (EN 13674-1 catalogue values; docs/references.md section 2) in the wheel's steel.
     /// Shear coefficients: 0.4 in vertical bending, the value commonly used for a rail (a
     /// thin web carries the shear; Thompson, Railway Noise and Vibration, 2009, ch. 3), and
-    /// 0.5 laterally (the head and foot carry it; an assumption, an input).
+    /// 0.5 laterally (the head and foot carry it; an assumption, an input). Torsion constant,
+    /// warping constant, centroid and shear centre: [`crate::fem::section_properties`] on the
+    /// project's 54E1 outline meshed at 1 mm (tests/section_properties.rs recomputes them:
+    /// 190.0 cm^4, 11 435 cm^6, 83.86 and 113.48 mm below the crown; the catalogue gives no
+    /// torsion figures).
     pub const UIC54: RailSection = RailSection {
         material: Material::STEEL,
         area_m2: 69.77e-4,
@@ -72,7 +98,18 @@ impl RailSection {
         second_moment_lateral_m4: 419.1e-8,
         shear_coefficient_vertical: 0.4,
         shear_coefficient_lateral: 0.5,
+        torsion_constant_m4: 190.0e-8,
+        warping_constant_m6: 11435.0e-12,
+        centroid_below_crown_m: 83.86e-3,
+        shear_centre_below_crown_m: 113.48e-3,
+        height_m: crate::geometry::rail54e1::HEIGHT_MM * 1e-3,
     };
+
+    /// `int |p - S|^2 dA` (m^4): the polar moment about the shear centre.
+    pub fn polar_moment_about_shear_centre_m4(&self) -> f64 {
+        let d = self.shear_centre_below_crown_m - self.centroid_below_crown_m;
+        self.second_moment_vertical_m4 + self.second_moment_lateral_m4 + self.area_m2 * d * d
+    }
 }
 
 /// The track around the contact.
@@ -92,6 +129,10 @@ pub struct Track {
     pub pad: [f64; 2],
     /// Shear (lateral, longitudinal) values as a fraction of the vertical ones.
     pub pad_shear_fraction: f64,
+    /// The pad's arm in roll (m): `sqrt(sum share_i y_i^2)` over the rail-foot nodes that carry
+    /// the pad's vertical springs, y from the rail's centre line; its vertical stiffness times
+    /// the arm squared resists the twist.
+    pub pad_roll_arm_m: f64,
     /// Ballast stiffness (N/m) and damping (N s/m) per (half) sleeper.
     pub ballast: [f64; 2],
     /// Sleeper mass (kg) per rail.
@@ -140,8 +181,8 @@ impl Direction {
     }
 }
 
-/// The assembled one-dimensional model: M, C, K as (i, j, value) entries, its band and the
-/// contact dof.
+/// The assembled one-dimensional model: M, C, K as (i, j, value) entries, its band, and the
+/// contact point's and the centroid's displacement in the direction as weighted sums of dofs.
 pub struct BeamModel {
     /// Degrees of freedom.
     pub dofs: usize,
@@ -149,8 +190,36 @@ pub struct BeamModel {
     pub entries: Vec<(usize, usize, f64, f64, f64)>,
     /// Lower = upper bandwidth.
     pub bandwidth: usize,
-    /// The dof of the contact point's displacement in the direction.
-    pub contact_dof: usize,
+    /// The contact point's displacement `sum w_i u_i` as (dof, w): the crown at the contact
+    /// station (laterally the shear centre's deflection and the twist).
+    pub contact: Vec<(usize, f64)>,
+    /// The section centroid's displacement at the contact station, likewise (the FE track's
+    /// mass-weighted section mean).
+    pub centroid: Vec<(usize, f64)>,
+}
+
+/// Which point of the section a transfer function loads and observes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SectionPoint {
+    /// The crown: where the wheel acts.
+    Crown,
+    /// The centroid: a load through the centre of mass, its mean displacement.
+    Centroid,
+}
+
+impl BeamModel {
+    /// The weights of `point`.
+    pub fn point(&self, point: SectionPoint) -> &[(usize, f64)] {
+        match point {
+            SectionPoint::Crown => &self.contact,
+            SectionPoint::Centroid => &self.centroid,
+        }
+    }
+
+    /// `sum w_i x_i` over the weights of `point`.
+    pub fn at(&self, point: SectionPoint, x: impl Fn(usize) -> f64) -> f64 {
+        self.point(point).iter().map(|&(d, w)| w * x(d)).sum()
+    }
 }
 
 impl Track {
@@ -163,6 +232,7 @@ impl Track {
             (self.pad[0], "rail_pad.stiffness_n_per_m"),
             (self.ballast[0], "ballast.stiffness_n_per_m"),
             (self.sleeper_mass_kg, "sleeper mass"),
+            (self.pad_roll_arm_m, "rail pad roll arm"),
             (self.element_length_m, "rail element length"),
         ];
         for (v, f) in positive {
@@ -231,20 +301,12 @@ impl Track {
         let (x, contact_node) = self.nodes(x_contact_m);
         let rail = &self.rail;
         let g = rail.material.shear_modulus_pa();
-        let (bending, i2, kappa) = match direction {
-            Direction::Vertical => (
-                true,
-                rail.second_moment_vertical_m4,
-                rail.shear_coefficient_vertical,
-            ),
-            Direction::Lateral => (
-                true,
-                rail.second_moment_lateral_m4,
-                rail.shear_coefficient_lateral,
-            ),
-            Direction::Longitudinal => (false, 0.0, 0.0),
+        // Dofs per rail node: longitudinal u; vertical (w, theta); lateral (v, psi, phi, phi').
+        let per_node = match direction {
+            Direction::Longitudinal => 1,
+            Direction::Vertical => 2,
+            Direction::Lateral => 4,
         };
-        let per_node = if bending { 2 } else { 1 };
         let sleepers = self.sleepers();
         // Pad footprint nodes of each sleeper.
         let pad_nodes: Vec<Vec<usize>> = sleepers
@@ -264,7 +326,6 @@ impl Track {
             .collect();
         // Dof numbering: rail nodes in order, each sleeper's dof (vertical only) right after
         // the middle node of its pad, so that the band stays narrow.
-        let held = |i: usize| direction != Direction::Vertical && (i == 0 || i + 1 == x.len());
         let mut node_dof = vec![usize::MAX; x.len()];
         let mut sleeper_dof = vec![usize::MAX; sleepers.len()];
         let mut next = 0usize;
@@ -284,15 +345,18 @@ impl Track {
         // Held rail ends: the dof is removed by a flag; entries on it are dropped. The rolling
         // model holds every node of the rail's end faces along and across the track, which
         // also holds the section's bending rotations there (u_x = z theta_y = 0 for all z, and
-        // likewise about z): a beam end with its rotation held.
+        // likewise about z), its twist (u_y = -(z - z_S) phi = 0) and its warping
+        // (u_x = omega phi' = 0). Vertically the ends stay free to move.
         let fixed: Vec<bool> = {
             let mut f = vec![false; next];
-            for i in 0..x.len() {
-                if held(i) {
-                    f[node_dof[i]] = true;
-                }
-                if bending && (i == 0 || i + 1 == x.len()) {
-                    f[node_dof[i] + 1] = true;
+            for i in [0, x.len() - 1] {
+                let first = if direction == Direction::Vertical {
+                    1
+                } else {
+                    0
+                };
+                for d in first..per_node {
+                    f[node_dof[i] + d] = true;
                 }
             }
             f
@@ -302,31 +366,50 @@ impl Track {
             rail.material.youngs_modulus_pa,
             rail.area_m2,
         );
+        let mut add_block = |idx: &[usize], km: &[&[f64]], mm: &[&[f64]]| {
+            for r in 0..idx.len() {
+                for c in 0..idx.len() {
+                    entries.push((idx[r], idx[c], mm[r][c], 0.0, km[r][c]));
+                }
+            }
+        };
         for el in 0..x.len() - 1 {
             let l = x[el + 1] - x[el];
             let (d0, d1) = (node_dof[el], node_dof[el + 1]);
-            if bending {
-                let idx = [d0, d0 + 1, d1, d1 + 1];
-                let (km, mm) = timoshenko_element(e * i2, kappa * g * a, rho * a, rho * i2, l);
-                for r in 0..4 {
-                    for c in 0..4 {
-                        entries.push((idx[r], idx[c], mm[r][c], 0.0, km[r][c]));
-                    }
+            match direction {
+                Direction::Vertical => {
+                    let (km, mm) = timoshenko_element(
+                        e * rail.second_moment_vertical_m4,
+                        rail.shear_coefficient_vertical * g * a,
+                        rho * a,
+                        rho * rail.second_moment_vertical_m4,
+                        l,
+                    );
+                    add_block(
+                        &[d0, d0 + 1, d1, d1 + 1],
+                        &km.each_ref().map(|r| r.as_slice()),
+                        &mm.each_ref().map(|r| r.as_slice()),
+                    );
                 }
-            } else {
-                let idx = [d0, d1];
-                let (k, m) = (e * a / l, rho * a * l / 6.0);
-                for r in 0..2 {
-                    for c in 0..2 {
-                        let same = r == c;
-                        entries.push((
-                            idx[r],
-                            idx[c],
-                            m * if same { 2.0 } else { 1.0 },
-                            0.0,
-                            k * if same { 1.0 } else { -1.0 },
-                        ));
-                    }
+                Direction::Lateral => {
+                    let (km, mm) = lateral_torsional_element(rail, l);
+                    let idx: Vec<usize> = (0..4)
+                        .map(|d| d0 + d)
+                        .chain((0..4).map(|d| d1 + d))
+                        .collect();
+                    add_block(
+                        &idx,
+                        &km.each_ref().map(|r| r.as_slice()),
+                        &mm.each_ref().map(|r| r.as_slice()),
+                    );
+                }
+                Direction::Longitudinal => {
+                    let (k, m) = (e * a / l, rho * a * l / 6.0);
+                    add_block(
+                        &[d0, d1],
+                        &[&[k, -k], &[-k, k]],
+                        &[&[2.0 * m, m], &[m, 2.0 * m]],
+                    );
                 }
             }
         }
@@ -335,17 +418,34 @@ impl Track {
         } else {
             self.pad_shear_fraction
         };
+        // Lateral: the foot's lateral motion is v + (z_S - z_foot) phi.
+        let foot_arm_m = rail.height_m - rail.shear_centre_below_crown_m;
         for (s, nodes) in pad_nodes.iter().enumerate() {
             let share = 1.0 / nodes.len() as f64;
             let (kp, cp) = (self.pad[0] * shear * share, self.pad[1] * shear * share);
             for &i in nodes {
                 let d = node_dof[i];
-                entries.push((d, d, 0.0, cp, kp));
-                if direction == Direction::Vertical {
-                    let sd = sleeper_dof[s];
-                    entries.push((sd, sd, 0.0, cp, kp));
-                    entries.push((d, sd, 0.0, -cp, -kp));
-                    entries.push((sd, d, 0.0, -cp, -kp));
+                match direction {
+                    Direction::Vertical => {
+                        let sd = sleeper_dof[s];
+                        entries.push((d, d, 0.0, cp, kp));
+                        entries.push((sd, sd, 0.0, cp, kp));
+                        entries.push((d, sd, 0.0, -cp, -kp));
+                        entries.push((sd, d, 0.0, -cp, -kp));
+                    }
+                    Direction::Longitudinal => entries.push((d, d, 0.0, cp, kp)),
+                    Direction::Lateral => {
+                        // Shear spring on (v, phi) with the arm: [1, h; h, h^2] k.
+                        let (v, phi) = (d, d + 2);
+                        let h = foot_arm_m;
+                        for (r, c, w) in [(v, v, 1.0), (v, phi, h), (phi, v, h), (phi, phi, h * h)]
+                        {
+                            entries.push((r, c, 0.0, w * cp, w * kp));
+                        }
+                        // The vertical springs' resistance to the twist.
+                        let roll = self.pad_roll_arm_m * self.pad_roll_arm_m * share;
+                        entries.push((phi, phi, 0.0, self.pad[1] * roll, self.pad[0] * roll));
+                    }
                 }
             }
             if direction == Direction::Vertical {
@@ -378,11 +478,25 @@ impl Track {
             .map(|&(i, j, ..)| i.abs_diff(j))
             .max()
             .unwrap_or(0);
+        // Where the contact and the centroid sit on the section: the lateral motion at depth
+        // h below the crown is v - (z - z_S) phi = v - (d_S - h) phi, d_S the shear centre's
+        // depth.
+        let c = map[node_dof[contact_node]];
+        let (contact, centroid) = if direction == Direction::Lateral {
+            let d_s = rail.shear_centre_below_crown_m;
+            (
+                vec![(c, 1.0), (c + 2, -d_s)],
+                vec![(c, 1.0), (c + 2, -(d_s - rail.centroid_below_crown_m))],
+            )
+        } else {
+            (vec![(c, 1.0)], vec![(c, 1.0)])
+        };
         Ok(BeamModel {
             dofs: free,
             entries,
             bandwidth,
-            contact_dof: map[node_dof[contact_node]],
+            contact,
+            centroid,
         })
     }
 
@@ -406,15 +520,22 @@ impl BeamModel {
             .iter()
             .map(|&f| c64::new(0.0, std::f64::consts::TAU * f))
             .collect();
-        self.transfer(&s, 0.0)
+        self.transfer(&s, 0.0, SectionPoint::Crown)
     }
 
     /// The transfer function `u_c / F_c = e_c^T (K + s (C + alpha M) + s^2 M)^-1 e_c` at each
     /// Laplace variable `s` (1/s), with mass-proportional damping `alpha` (1/s) added: on the
     /// imaginary axis the receptance; at `s = sigma + i w` the Fourier transform of the impulse
     /// response windowed by `exp(-sigma t)`, which is how a measured (or simulated) impulse
-    /// response is compared with it ([`super::rail_fe`]).
-    pub fn transfer(&self, s: &[c64], mass_damping_per_s: f64) -> Result<Vec<c64>> {
+    /// response is compared with it ([`super::rail_fe`]). The load acts at `point` and the
+    /// displacement is observed there.
+    pub fn transfer(
+        &self,
+        s: &[c64],
+        mass_damping_per_s: f64,
+        point: SectionPoint,
+    ) -> Result<Vec<c64>> {
+        let weights = self.point(point);
         s.iter()
             .map(|&s| {
                 let mut a = BandMatrix::zeros(self.dofs, self.bandwidth, self.bandwidth);
@@ -422,9 +543,13 @@ impl BeamModel {
                     a.add(i, j, s * s * m + s * (c + mass_damping_per_s * m) + k)?;
                 }
                 let mut b = vec![c64::new(0.0, 0.0); self.dofs];
-                b[self.contact_dof] = c64::new(1.0, 0.0);
+                for &(d, w) in weights {
+                    b[d] += c64::new(w, 0.0);
+                }
                 a.solve(&mut b)?;
-                Ok(b[self.contact_dof])
+                Ok(weights
+                    .iter()
+                    .fold(c64::new(0.0, 0.0), |sum, &(d, w)| sum + b[d] * w))
             })
             .collect()
     }
@@ -458,6 +583,97 @@ pub fn timoshenko_element(
         m[d + 2][d + 2] = rho * l / 3.0;
         m[d][d + 2] = rho * l / 6.0;
         m[d + 2][d] = rho * l / 6.0;
+    }
+    (k, m)
+}
+
+/// Hermite cubics on an element of length `l` at `xi = x / l`: values, first and second
+/// derivatives in x, for the dofs (phi1, phi1', phi2, phi2').
+fn hermite(xi: f64, l: f64) -> ([f64; 4], [f64; 4], [f64; 4]) {
+    let (x2, x3) = (xi * xi, xi * xi * xi);
+    (
+        [
+            1.0 - 3.0 * x2 + 2.0 * x3,
+            l * (xi - 2.0 * x2 + x3),
+            3.0 * x2 - 2.0 * x3,
+            l * (x3 - x2),
+        ],
+        [
+            6.0 * (x2 - xi) / l,
+            1.0 - 4.0 * xi + 3.0 * x2,
+            6.0 * (xi - x2) / l,
+            3.0 * x2 - 2.0 * xi,
+        ],
+        [
+            (12.0 * xi - 6.0) / (l * l),
+            (6.0 * xi - 4.0) / l,
+            (6.0 - 12.0 * xi) / (l * l),
+            (6.0 * xi - 2.0) / l,
+        ],
+    )
+}
+
+/// Stiffness and consistent mass of a two-node lateral-torsional element, dofs
+/// `(v1, psi1, phi1, phi1', v2, psi2, phi2, phi2')` (module docs): lateral Timoshenko bending
+/// on (v, psi) ([`timoshenko_element`]); torsion on Hermite cubics,
+/// `G J int phi'^2 + E I_w int phi''^2` and mass `rho I_pS int phi^2 + rho I_w int phi'^2`
+/// (the warping's own inertia); the centroid's offset above the shear centre, `d = z_C - z_S`,
+/// couples the linear v and the cubic phi in the mass by `-rho A d int v phi`. Integrated by
+/// four Gauss points, exact for these polynomials (degree 6 at most).
+pub fn lateral_torsional_element(rail: &RailSection, l: f64) -> ([[f64; 8]; 8], [[f64; 8]; 8]) {
+    let mat = rail.material;
+    let (rho, e, g) = (
+        mat.density_kg_per_m3,
+        mat.youngs_modulus_pa,
+        mat.shear_modulus_pa(),
+    );
+    let a = rail.area_m2;
+    let iz = rail.second_moment_lateral_m4;
+    let mut k = [[0.0; 8]; 8];
+    let mut m = [[0.0; 8]; 8];
+    let (kb, mb) = timoshenko_element(
+        e * iz,
+        rail.shear_coefficient_lateral * g * a,
+        rho * a,
+        rho * iz,
+        l,
+    );
+    let bending = [0, 1, 4, 5];
+    let torsion = [2, 3, 6, 7];
+    for r in 0..4 {
+        for c in 0..4 {
+            k[bending[r]][bending[c]] = kb[r][c];
+            m[bending[r]][bending[c]] = mb[r][c];
+        }
+    }
+    let gj = g * rail.torsion_constant_m4;
+    let eiw = e * rail.warping_constant_m6;
+    let rho_ip = rho * rail.polar_moment_about_shear_centre_m4();
+    let rho_iw = rho * rail.warping_constant_m6;
+    let offset = rail.shear_centre_below_crown_m - rail.centroid_below_crown_m;
+    // Gauss-Legendre, 4 points on [-1, 1].
+    let gauss = [
+        (-0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
+        (-0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
+        (0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
+        (0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
+    ];
+    for (t, w) in gauss {
+        let xi = 0.5 * (t + 1.0);
+        let dx = 0.5 * w * l;
+        let (h, h1, h2) = hermite(xi, l);
+        let lin = [1.0 - xi, xi];
+        for r in 0..4 {
+            for c in 0..4 {
+                k[torsion[r]][torsion[c]] += dx * (gj * h1[r] * h1[c] + eiw * h2[r] * h2[c]);
+                m[torsion[r]][torsion[c]] += dx * (rho_ip * h[r] * h[c] + rho_iw * h1[r] * h1[c]);
+            }
+            for (n, &vd) in [0usize, 4].iter().enumerate() {
+                let coupling = -dx * rho * a * offset * lin[n] * h[r];
+                m[vd][torsion[r]] += coupling;
+                m[torsion[r]][vd] += coupling;
+            }
+        }
     }
     (k, m)
 }
@@ -498,6 +714,7 @@ impl Track {
                 case.rail_pad.damping_n_s_per_m,
             ],
             pad_shear_fraction: case.rail_pad.shear_fraction,
+            pad_roll_arm_m: pad_roll_arm_m(layout),
             ballast: [
                 case.ballast.stiffness_n_per_m,
                 case.ballast.damping_n_s_per_m,
@@ -511,4 +728,32 @@ impl Track {
         track.check(source)?;
         Ok(track)
     }
+}
+
+/// The pad's arm in roll (m) on the rail section that `layout` meshes: the rms lateral position
+/// of the rail-foot nodes that carry the pad springs (equal shares, as
+/// [`crate::model::rolling::track_supports`] spreads them), from the rail's centre line.
+pub fn pad_roll_arm_m(layout: &crate::mesh::track::TrackLayout) -> f64 {
+    use crate::mesh::rail::{rail_section, RailSectionSizes};
+    let section = rail_section(RailSectionSizes {
+        running_surface_mm: layout.running_surface_element_mm,
+        body_mm: layout.section_element_mm,
+    });
+    let foot = section
+        .body
+        .tags
+        .get("foot_bottom")
+        .map(|v| v.as_slice())
+        .unwrap_or(&[]);
+    if foot.is_empty() {
+        // The section builder always tags the foot; a uniform foot of the catalogue width
+        // otherwise (rms of a uniform distribution: b / sqrt(12)).
+        return crate::geometry::rail54e1::FOOT_WIDTH_MM * 1e-3 / 12f64.sqrt();
+    }
+    let mean_y2 = foot
+        .iter()
+        .map(|&i| section.body.nodes[i][0].powi(2))
+        .sum::<f64>()
+        / foot.len() as f64;
+    mean_y2.sqrt() * 1e-3
 }

@@ -27,7 +27,7 @@ use std::time::Instant;
 use faer::c64;
 use serde::Serialize;
 
-use super::rail::{Direction, Track};
+use super::rail::{Direction, SectionPoint, Track};
 use crate::explicit::model::NodalLoad;
 use crate::explicit::{Curve, Formulation, Model, Solver};
 use crate::material::Material;
@@ -268,9 +268,11 @@ pub fn compare(
         .map(|&s| transform(&t, &u, s, dt) / transform(&t, &f, s, dt))
         .collect();
     let track = Track::from_layout(layout, case, rail_material, source)?;
-    let beam = track
-        .beam_model(direction, station)?
-        .transfer(&s, case.mass_damping_per_s)?;
+    let beam = track.beam_model(direction, station)?.transfer(
+        &s,
+        case.mass_damping_per_s,
+        SectionPoint::Centroid,
+    )?;
     Ok(RailComparison {
         direction,
         x_m: station,

@@ -25,7 +25,7 @@
 use faer::{c64, Mat, Side};
 use serde::Serialize;
 
-use super::rail::{BeamModel, Direction, Track};
+use super::rail::{BeamModel, Direction, SectionPoint, Track};
 use crate::{Error, Result};
 
 /// One modal term at the contact.
@@ -177,7 +177,7 @@ pub fn modal_model(
     for (a, &q) in kept.iter().enumerate() {
         let w2 = values[q];
         let w = w2.sqrt();
-        let phi = x[(model.contact_dof, q)];
+        let phi = model.at(SectionPoint::Crown, |d| x[(d, q)]);
         kept_flexibility += phi * phi / w2;
         modes.push(RailMode {
             omega_rad_per_s: w,
@@ -203,7 +203,7 @@ pub fn modal_model(
             continue;
         }
         let octave = ((w2.sqrt() / w_max).log2().floor() as usize).min(2);
-        let phi = x[(model.contact_dof, q)];
+        let phi = model.at(SectionPoint::Crown, |d| x[(d, q)]);
         let bin = &mut bins[octave];
         bin[0] += phi * phi;
         bin[1] += phi * phi / w2;
