@@ -244,3 +244,63 @@ fn report_shows_predicted_unstable_modes_beside_the_psd_peaks() {
     assert_eq!(e.exit_code(), 2);
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// A snapshot sampled from Hertz's pressure on a square lattice of spacing `h_mm`, with the
+/// pressure centre on a node.
+fn hertz_snapshot(dir: &Path, hertz: &squeal::kalker::hertz::HertzContact, h_mm: f64) -> PathBuf {
+    let mut csv = String::from(
+        "x_m,y_m,pressure_pa,shear_x_pa,shear_y_pa,slip_vx_m_per_s,slip_vy_m_per_s,slip_by_bound,slip_by_velocity\n",
+    );
+    for i in -20i32..=20 {
+        for j in -20i32..=20 {
+            let (x, y) = (i as f64 * h_mm * 1e-3, j as f64 * h_mm * 1e-3);
+            let p = hertz.pressure_pa(x, y);
+            csv.push_str(&format!("{x},{y},{p},{},0,0.001,0,0,1\n", 0.3 * p));
+        }
+    }
+    std::fs::create_dir_all(dir).unwrap();
+    let path = dir.join("patch.csv");
+    std::fs::write(&path, csv).unwrap();
+    path
+}
+
+/// Every patch chart states its resolution and its peak against Hertz: on a Hertz patch
+/// sampled on a lattice the loaded nodes on the centre lines are the lattice points strictly
+/// inside the ellipse (|x| < a, |y| < b; measured 33 x 15 at 0.5 mm and 5 x 1 at 4 mm for
+/// a = 8.11, b = 3.91 mm), and the peak is Hertz's p0 where a node sits at the centre.
+#[test]
+fn patch_maps_state_nodes_across_and_peak_against_hertz() {
+    use squeal::kalker::hertz::HertzContact;
+    use squeal::report::patch_maps::{write_patch_maps, RESOLVED_NODES_ACROSS};
+    let material = squeal::kalker::Material::validated(210e9, 0.3, "test").unwrap();
+    // An elliptic contact (A : B = 1 : 3); its axes are read back.
+    let hertz = HertzContact::from_curvatures(1.0, 3.0, 100e3, material).unwrap();
+    let (a_mm, b_mm) = (hertz.semi_axis_a_m * 1e3, hertz.semi_axis_b_m * 1e3);
+    let dir = std::env::temp_dir().join(format!("squeal_patch_maps_{}", std::process::id()));
+    for h_mm in [0.5, 4.0] {
+        let csv = hertz_snapshot(&dir.join(format!("h{h_mm}")), &hertz, h_mm);
+        let out = dir.join(format!("out{h_mm}"));
+        let (files, r) = write_patch_maps(&csv, 0.3, 18.0, Some(&hertz), &out, "p").unwrap();
+        // Lattice points strictly inside (-a, a) on the centre row, (-b, b) on the column.
+        let inside = |half: f64| 2 * ((half / h_mm - 1e-9).ceil() as usize - 1) + 1;
+        println!(
+            "h {h_mm} mm, a {a_mm:.2} b {b_mm:.2} mm: {}",
+            r.statement(Some(hertz.peak_pressure_pa * 1e-6))
+        );
+        assert_eq!(r.nodes_along_x, inside(a_mm));
+        assert_eq!(r.nodes_across_y, inside(b_mm));
+        assert!((r.node_spacing_mm - h_mm).abs() < 1e-9);
+        // The centre node carries p0 (rounding only).
+        assert!((r.peak_pressure_mpa / (hertz.peak_pressure_pa * 1e-6) - 1.0).abs() < 1e-12);
+        assert_eq!(r.nodes_across() >= RESOLVED_NODES_ACROSS, h_mm < 1.0);
+        assert_eq!(files.len(), 3);
+        for f in &files {
+            assert!(out.join(f).exists());
+            // The SVG twin carries the statement as text.
+            let svg = std::fs::read_to_string(out.join(f).with_extension("svg")).unwrap();
+            assert!(svg.contains("nodes across"), "{f}");
+            assert!(svg.contains("Hertz p0"), "{f}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

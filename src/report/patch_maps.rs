@@ -2,11 +2,14 @@
 //! simulator): the patch map with shear-stress arrows and adhesion / slip by the stress
 //! criterion (shear at the traction bound), the map with micro-slip arrows and adhesion / slip
 //! by the velocity criterion, and pressure, shear and traction bound `mu p` along the
-//! longitudinal centre line (as the paper's patch figures).
+//! longitudinal centre line (as the paper's patch figures). Every chart states its resolution
+//! (loaded nodes along and across the patch through its centre) and its peak pressure against
+//! Hertz's for the same normal force, so that a coarse mesh's map is not read as a resolved one.
 
 use std::path::Path;
 
 use super::chart::{write, LineChart, Series, Stroke};
+use crate::kalker::hertz::HertzContact;
 use crate::table::Table;
 use crate::{Error, Result};
 
@@ -157,18 +160,99 @@ struct MapSpec {
     arrow_label: &'static str,
 }
 
+/// Fewest nodes across a patch for its map and peak pressure to mean something (issue 24: a
+/// patch resolved by at least 8 nodes across).
+pub const RESOLVED_NODES_ACROSS: usize = 8;
+
+/// How finely a snapshot resolves its patch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PatchResolution {
+    /// Loaded nodes along the rolling direction, on the row through the pressure centre.
+    pub nodes_along_x: usize,
+    /// Loaded nodes across, on the column through the pressure centre.
+    pub nodes_across_y: usize,
+    /// Median distance between neighbouring nodes (mm).
+    pub node_spacing_mm: f64,
+    /// Largest nodal pressure (MPa).
+    pub peak_pressure_mpa: f64,
+}
+
+impl PatchResolution {
+    /// The fewer of the two node counts.
+    pub fn nodes_across(&self) -> usize {
+        self.nodes_along_x.min(self.nodes_across_y)
+    }
+
+    /// One line: the nodes across, the peak pressure and, when given, Hertz's peak for the same
+    /// normal force.
+    pub fn statement(&self, hertz_peak_mpa: Option<f64>) -> String {
+        let mut s = format!(
+            "{} x {} nodes across the patch, peak p {:.0} MPa",
+            self.nodes_along_x, self.nodes_across_y, self.peak_pressure_mpa
+        );
+        if let Some(p0) = hertz_peak_mpa {
+            s.push_str(&format!(
+                " (Hertz p0 {p0:.0} MPa, ratio {:.2})",
+                self.peak_pressure_mpa / p0
+            ));
+        }
+        s
+    }
+
+    /// The same, short enough for a chart's axis label.
+    pub fn short_statement(&self, hertz_peak_mpa: Option<f64>) -> String {
+        let mut s = format!(
+            "{} x {} nodes across, peak p {:.0} MPa",
+            self.nodes_along_x, self.nodes_across_y, self.peak_pressure_mpa
+        );
+        if let Some(p0) = hertz_peak_mpa {
+            s.push_str(&format!(", Hertz p0 {p0:.0} MPa"));
+        }
+        s
+    }
+}
+
+/// Loaded nodes (pressure above zero) on the row and column through the pressure centre.
+fn resolution(nodes: &[Node], h_mm: f64) -> PatchResolution {
+    let nearest_zero = |v: &dyn Fn(&Node) -> f64| {
+        nodes
+            .iter()
+            .map(v)
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+            .unwrap_or(0.0)
+    };
+    let (y_row, x_column) = (nearest_zero(&|n| n.y_mm), nearest_zero(&|n| n.x_mm));
+    let loaded = |on: &dyn Fn(&Node) -> bool| {
+        nodes
+            .iter()
+            .filter(|n| n.pressure_mpa > 0.0 && on(n))
+            .count()
+    };
+    PatchResolution {
+        nodes_along_x: loaded(&|n| (n.y_mm - y_row).abs() < 0.5 * h_mm),
+        nodes_across_y: loaded(&|n| (n.x_mm - x_column).abs() < 0.5 * h_mm),
+        node_spacing_mm: h_mm,
+        peak_pressure_mpa: nodes.iter().map(|n| n.pressure_mpa).fold(0.0, f64::max),
+    }
+}
+
 /// Writes `<stem>_shear.png|svg`, `<stem>_slip.png|svg` and `<stem>_centreline.png|svg` into
 /// `out_dir` from the snapshot `csv` with friction coefficient `mu` (for the traction bound);
-/// returns the PNG file names.
+/// each chart states the patch's resolution and peak pressure against `hertz` (Hertz's solution
+/// for the snapshot's normal force on the profiles, when known), and the centre line shows
+/// Hertz's pressure beside the FE's. Returns the PNG file names and the resolution.
 pub fn write_patch_maps(
     csv: &Path,
     mu: f64,
     time_ms: f64,
+    hertz: Option<&HertzContact>,
     out_dir: &Path,
     stem: &str,
-) -> Result<Vec<String>> {
+) -> Result<(Vec<String>, PatchResolution)> {
     let nodes = read_nodes(csv)?;
     let h = spacing_mm(&nodes);
+    let patch = resolution(&nodes, h);
+    let statement = patch.short_statement(hertz.map(|c| c.peak_pressure_pa * 1e-6));
     let mut files = Vec::new();
     let size = Some((900, 700));
     // The two maps: markers by a slip criterion, arrows scaled so that the longest is 1.5
@@ -210,7 +294,7 @@ pub fn write_patch_maps(
         write(
             &LineChart {
                 title: format!("Contact patch at {time_ms:.1} ms: {what}"),
-                x_label: "x, rolling direction (mm)".into(),
+                x_label: format!("x, rolling (mm); {statement}"),
                 y_label: "y, lateral (mm)".into(),
                 series,
                 size_px: size,
@@ -242,30 +326,48 @@ pub fn write_patch_maps(
         color,
     };
     let name = format!("{stem}_centreline");
+    let mut series = vec![
+        line(
+            "pressure p",
+            row.iter().map(|n| n.pressure_mpa).collect(),
+            0,
+        ),
+        line(
+            "shear |tau|",
+            row.iter()
+                .map(|n| n.shear_mpa[0].hypot(n.shear_mpa[1]))
+                .collect(),
+            1,
+        ),
+        line(
+            &format!("traction bound mu p (mu = {mu:.2})"),
+            row.iter().map(|n| mu * n.pressure_mpa).collect(),
+            2,
+        ),
+    ];
+    if let Some(c) = hertz {
+        // Hertz's pressure along x through the centre, sampled finely.
+        let a_mm = c.semi_axis_a_m * 1e3;
+        let xs: Vec<f64> = (0..=100)
+            .map(|i| -a_mm + 2.0 * a_mm * i as f64 / 100.0)
+            .collect();
+        series.push(Series {
+            label: format!("Hertz p (a = {a_mm:.2} mm)"),
+            y: xs
+                .iter()
+                .map(|&x| c.pressure_pa(x * 1e-3, 0.0) * 1e-6)
+                .collect(),
+            x: xs,
+            stroke: Stroke::Solid,
+            color: 3,
+        });
+    }
     write(
         &LineChart {
             title: format!("Patch centre line at {time_ms:.1} ms (y = {y_row:.1} mm)"),
-            x_label: "x, rolling direction (mm)".into(),
+            x_label: format!("x, rolling (mm); {statement}"),
             y_label: "stress (MPa)".into(),
-            series: vec![
-                line(
-                    "pressure p",
-                    row.iter().map(|n| n.pressure_mpa).collect(),
-                    0,
-                ),
-                line(
-                    "shear |tau|",
-                    row.iter()
-                        .map(|n| n.shear_mpa[0].hypot(n.shear_mpa[1]))
-                        .collect(),
-                    1,
-                ),
-                line(
-                    &format!("traction bound mu p (mu = {mu:.2})"),
-                    row.iter().map(|n| mu * n.pressure_mpa).collect(),
-                    2,
-                ),
-            ],
+            series,
             size_px: size,
             ..Default::default()
         },
@@ -273,5 +375,5 @@ pub fn write_patch_maps(
         Some(&out_dir.join(format!("{name}.svg"))),
     )?;
     files.push(format!("{name}.png"));
-    Ok(files)
+    Ok((files, patch))
 }

@@ -422,16 +422,45 @@ pub(super) fn patches(page: &mut Page, ctx: &Context) -> Result<()> {
             let snapshot: Option<crate::kalker::snapshot::PatchSnapshot> =
                 crate::input::read_json(&csv.with_extension("json")).ok();
             let (mu, time_ms) = snapshot
+                .as_ref()
                 .map(|s| (s.mu, s.time_s * 1e3))
                 .unwrap_or((f64::NAN, f64::NAN));
+            // Hertz on the profiles at the wheel's position then, when the run records it.
+            let hertz = snapshot
+                .as_ref()
+                .and_then(|s| super::table3::hertz_of_snapshot(&r.dir, s).ok().flatten());
             let file_stem = csv
                 .file_stem()
                 .map(|s| s.to_string_lossy().to_string())
                 .unwrap_or_default();
             let stem = format!("{}_{}", file_stem, r.name);
-            match super::patch_maps::write_patch_maps(csv, mu, time_ms, out_dir, &stem) {
-                Ok(pngs) => {
+            match super::patch_maps::write_patch_maps(
+                csv,
+                mu,
+                time_ms,
+                hertz.as_ref(),
+                out_dir,
+                &stem,
+            ) {
+                Ok((pngs, patch)) => {
                     let _ = writeln!(patch_md, "**{} at {time_ms:.1} ms**\n", r.name);
+                    let hertz_peak = hertz.map(|c| c.peak_pressure_pa * 1e-6);
+                    let _ = write!(
+                        patch_md,
+                        "Resolution: {}, node spacing {:.1} mm.",
+                        patch.statement(hertz_peak),
+                        patch.node_spacing_mm
+                    );
+                    if patch.nodes_across() < super::patch_maps::RESOLVED_NODES_ACROSS {
+                        let _ = write!(
+                            patch_md,
+                            " **Coarse**: fewer than {} nodes across; the maps show where \
+                             the contact is, not its stress distribution, and the peak \
+                             pressure is not the patch's.",
+                            super::patch_maps::RESOLVED_NODES_ACROSS
+                        );
+                    }
+                    let _ = writeln!(patch_md, "\n");
                     for f in pngs {
                         let _ = writeln!(patch_md, "![{f}]({f})");
                         page.files.push(f);

@@ -190,12 +190,7 @@ pub fn operating_point(run_dir: &Path) -> Result<Option<OperatingPoint>> {
     {
         return Ok(None);
     }
-    let record: Option<serde_json::Value> = crate::input::read_json(&run_dir.join("run.json")).ok();
-    let flange_y_mm = record.as_ref().and_then(|r| {
-        r.get("contact_point")?
-            .get("flange_contact_wheel_y_mm")?
-            .as_f64()
-    });
+    let flange_y_mm = flange_contact_wheel_y_mm(run_dir);
     let clearance = table.column("flange_clearance_mm");
     let ratio = |k: usize| {
         if bound[k] > 0.0 {
@@ -230,12 +225,7 @@ pub fn operating_point(run_dir: &Path) -> Result<Option<OperatingPoint>> {
             .iter()
             .filter(|(ts, _)| (ts - time_s).abs() <= SNAPSHOT_MATCH_S)
             .min_by(|a, b| (a.0 - time_s).abs().total_cmp(&(b.0 - time_s).abs()));
-        // The wheel's tape-circle position on the rail then: the profiles' flange position less
-        // the flange clearance (both measured, see rolling::instruments).
-        let wheel_y_m = match (flange_y_mm, clearance) {
-            (Some(f), Some(c)) if c[k].is_finite() => Some((f - c[k]) * 1e-3),
-            _ => None,
-        };
+        let wheel_y_m = wheel_y_from(flange_y_mm, clearance, k);
         match (snapshot, wheel_y_m) {
             (None, _) => row.creepage_note = "no patch snapshot at this instant".into(),
             (Some(_), None) => {
@@ -282,14 +272,70 @@ fn snapshot_times(run_dir: &Path) -> Vec<(f64, std::path::PathBuf)> {
     out
 }
 
+/// The tape circle's radius (m) of the paper's wheel, for the profiles' contact geometry.
+const TAPE_CIRCLE_RADIUS_M: f64 = 0.46;
+
+/// The wheel and rail steel of the contact geometry (E 210 GPa, nu 0.3).
+fn contact_steel() -> Result<crate::kalker::Material> {
+    crate::kalker::Material::validated(210e9, 0.3, "report")
+}
+
+/// The profiles' flange-contact position of the wheel (mm), from `run.json`.
+fn flange_contact_wheel_y_mm(run_dir: &Path) -> Option<f64> {
+    let record: serde_json::Value = crate::input::read_json(&run_dir.join("run.json")).ok()?;
+    record
+        .get("contact_point")?
+        .get("flange_contact_wheel_y_mm")?
+        .as_f64()
+}
+
+/// The wheel's tape-circle position on the rail (m) at sample `k`: the profiles' flange
+/// position less the flange clearance then (both measured, see rolling::instruments).
+fn wheel_y_from(flange_y_mm: Option<f64>, clearance_mm: Option<&[f64]>, k: usize) -> Option<f64> {
+    match (flange_y_mm, clearance_mm) {
+        (Some(f), Some(c)) if c.get(k).is_some_and(|c| c.is_finite()) => Some((f - c[k]) * 1e-3),
+        _ => None,
+    }
+}
+
+/// Hertz's solution on the S1002 / 54E1 profiles for a patch snapshot of `run_dir`: the
+/// wheel's position at the contact-force sample nearest the snapshot, the snapshot's normal
+/// force. None when the run does not record the wheel's position.
+pub fn hertz_of_snapshot(
+    run_dir: &Path,
+    snapshot: &crate::kalker::snapshot::PatchSnapshot,
+) -> Result<Option<crate::kalker::hertz::HertzContact>> {
+    let table = Table::read(&run_dir.join("contact_forces.csv"))?;
+    let t = table.column("time_s").unwrap_or(&[]);
+    let Some(k) = (0..t.len()).min_by(|&a, &b| {
+        (t[a] - snapshot.time_s)
+            .abs()
+            .total_cmp(&(t[b] - snapshot.time_s).abs())
+    }) else {
+        return Ok(None);
+    };
+    let clearance = table.column("flange_clearance_mm");
+    let Some(wheel_y_m) = wheel_y_from(flange_contact_wheel_y_mm(run_dir), clearance, k) else {
+        return Ok(None);
+    };
+    let contact = crate::kalker::profiles::s1002_on_54e1(wheel_y_m, TAPE_CIRCLE_RADIUS_M)?;
+    crate::kalker::hertz::HertzContact::from_curvatures(
+        contact.curvature_x_per_m,
+        contact.curvature_y_per_m,
+        snapshot.normal_force_n,
+        contact_steel()?,
+    )
+    .map(Some)
+}
+
 /// Kalker's creepages for a snapshot on the profiles at `wheel_y_m` (tape-circle radius 0.46
 /// m, spin from the snapshot's contact normal): (xi, eta, unique, note).
 fn kalker_creepages(file: &Path, wheel_y_m: f64) -> Result<(f64, f64, bool, String)> {
     use crate::kalker::snapshot::{compare_snapshot_on_profiles, PatchSnapshot};
     let snapshot: PatchSnapshot = crate::input::read_json(file)?;
-    let radius_m = 0.46;
+    let radius_m = TAPE_CIRCLE_RADIUS_M;
     let spin = snapshot.normal_lateral_fraction.unwrap_or(0.0) / radius_m;
-    let material = crate::kalker::Material::validated(210e9, 0.3, "report")?;
+    let material = contact_steel()?;
     let cmp = compare_snapshot_on_profiles(&snapshot, wheel_y_m, radius_m, material, 40, spin)?;
     Ok((
         cmp.kalker.creepages.xi,
