@@ -1,6 +1,7 @@
 //! No heap allocation inside the time loop: a counting global allocator around steps of a model
 //! with every kind of part (elements, springs, loads, ties, a rigid body, prescribed motion,
-//! damping), on one and on two threads; then with a frictional contact pair in the loop.
+//! damping), on one and on two threads; then with a frictional contact pair in the loop, and
+//! with multi-rate stepping.
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::collections::BTreeMap;
@@ -77,7 +78,7 @@ fn the_time_step_does_not_allocate() {
         curve_n_m: Curve::ramp(0.0, 1e-4, 100.0),
     });
     for threads in [1, 2] {
-        assert_steps_do_not_allocate(&m, threads, &mut NoAux, "");
+        assert_steps_do_not_allocate(&m, threads, &mut NoAux, "", None);
     }
     // The contact module in the loop too (in the same test: the counter is global): a block of
     // 441 slave nodes (two parallel chunks) pressed by gravity on a fixed plate, with friction.
@@ -111,23 +112,41 @@ fn the_time_step_does_not_allocate() {
     let bound = pairs[0].time_step_bound_s(&m.nodal_mass_kg);
     m.register_time_step_bound("contact", bound);
     for (threads, contact) in [1, 2].into_iter().zip(pairs.iter_mut()) {
-        assert_steps_do_not_allocate(&m, threads, contact, "contact ");
+        assert_steps_do_not_allocate(&m, threads, contact, "contact ", None);
         // The block did touch the plate (else the contact loop did no work).
         assert!(
             contact.state.iter().any(|st| st.active),
             "no slave in contact"
         );
     }
+    // Multi-rate stepping: a bar whose elements grow fourfold along it (two levels), on
+    // springs at one end, under gravity.
+    let mut mesh = cuboid([48, 2, 2], [48.0, 0.02, 0.02], 1);
+    for p in mesh.nodes.iter_mut() {
+        p[0] = if p[0] <= 24.0 {
+            p[0] * 0.005
+        } else {
+            0.12 + (p[0] - 24.0) * 0.02
+        };
+    }
+    let mut m = Model::from_mesh(mesh, &materials, Formulation::default(), "test").unwrap();
+    m.gravity_m_per_s2 = [0.0, 0.0, -9.81];
+    m.add_ground_springs("x0", [1e6, 1e6, 1e6], [10.0, 10.0, 10.0])
+        .unwrap();
+    for threads in [1, 2] {
+        assert_steps_do_not_allocate(&m, threads, &mut NoAux, "multi-rate ", Some(8));
+    }
 }
 
-/// Steps a solver of `m` on a pool of `threads` threads with `aux` in the loop: three steps to
-/// warm up (rayon's registry, first touch of buffers), then 50 counted steps (every fifth with
-/// output) must not allocate.
+/// Steps a solver of `m` on a pool of `threads` threads with `aux` in the loop (multi-rate with
+/// at most `levels` levels when given): three steps to warm up (rayon's registry, first touch
+/// of buffers), then 50 counted steps (every fifth with output) must not allocate.
 fn assert_steps_do_not_allocate<A: AuxForces + Send>(
     m: &Model,
     threads: usize,
     aux: &mut A,
     what: &str,
+    levels: Option<usize>,
 ) {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -139,6 +158,10 @@ fn assert_steps_do_not_allocate<A: AuxForces + Send>(
     pool.broadcast(|_| ());
     let mut s = pool.install(|| {
         let mut s = Solver::new(m.clone(), None).unwrap();
+        if let Some(levels) = levels {
+            let p = s.enable_multi_rate(levels, &[]).unwrap();
+            assert!(p.counts.len() >= 2, "{:?}", p.counts);
+        }
         for _ in 0..3 {
             s.step_with(aux, true, false).unwrap();
         }

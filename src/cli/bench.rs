@@ -39,6 +39,10 @@ pub struct RollingBenchArgs {
     /// slave every step, for comparison).
     #[arg(long, value_enum, default_value_t = SearchArg::Region)]
     pub contact_search: SearchArg,
+    /// Time the steps with multi-rate stepping (as `simulate --multi-rate`): prints each
+    /// level's element cost.
+    #[arg(long)]
+    pub multi_rate: bool,
 }
 
 /// `--contact-search`.
@@ -56,7 +60,8 @@ fn rolling(a: RollingBenchArgs) -> Result<()> {
         SearchArg::Region => squeal::contact::ContactSearch::Region,
         SearchArg::Full => squeal::contact::ContactSearch::Full,
     };
-    let p = squeal::rolling::bench::step_profile(&loaded, a.steps, search)?;
+    let levels = a.multi_rate.then_some(super::simulate::MULTI_RATE_LEVELS);
+    let p = squeal::rolling::bench::step_profile(&loaded, a.steps, search, levels)?;
     println!(
         "nodes={} elements={} contact_slaves={} threads={} dt_s={:.4e} ({}) steps={}",
         p.nodes,
@@ -67,7 +72,21 @@ fn rolling(a: RollingBenchArgs) -> Result<()> {
         p.time_step_limited_by,
         p.steps
     );
-    println!("levels=1 (single rate: every element at the smallest stable step)");
+    if p.multi_rate {
+        let per_level: Vec<String> = p
+            .level_ns_per_element_step
+            .iter()
+            .enumerate()
+            .map(|(k, ns)| format!("{k}:{ns:.1}"))
+            .collect();
+        println!(
+            "levels={} (multi-rate: level k steps every 2^k steps) ns_per_element_step_by_level {}",
+            p.level_counts.len(),
+            per_level.join(" ")
+        );
+    } else {
+        println!("levels=1 (single rate: every element at the smallest stable step)");
+    }
     let counts: Vec<String> = p
         .level_counts
         .iter()
@@ -76,8 +95,8 @@ fn rolling(a: RollingBenchArgs) -> Result<()> {
         .collect();
     println!(
         "step_levels elements per level (power-of-two partition, contact nodes at level 0) {} \
-         multi_rate_element_work={:.3} of single rate (not integrated yet; {:.3} if the contact's \
-         nodes followed their elements)",
+         multi_rate_element_work={:.3} of single rate ({:.3} if the contact's nodes followed \
+         their elements)",
         counts.join(" "),
         p.element_work_fraction,
         p.element_work_fraction_free_contact

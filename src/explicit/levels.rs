@@ -12,14 +12,26 @@
 //!
 //! The element work of a multi-rate step of the coarsest level, relative to single-rate
 //! stepping at `t_min`, is `sum_k n_k 2^-k / N` (`n_k` elements at level k of N): what
-//! subcycling would save on the element forces. This module reports the partition; the engine
-//! does not integrate multi-rate yet.
+//! subcycling would save on the element forces. The integration itself is
+//! [`super::multirate`]'s; its per-level state ([`MultiRate`]) and the element loop of one
+//! level (`add_level_forces`) sit here, below the solver that uses them.
+
+use std::ops::Range;
+
+use rayon::prelude::*;
+
+use super::batch::{add_block_forces, ElementBatch};
+use super::colour::SharedMut;
+use crate::mesh::P3;
 
 /// The levels of a model.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LevelPartition {
     /// Level of every element (0: the finest, stepping at `t_min`).
     pub element_level: Vec<u8>,
+    /// Level of every node: the finest among its elements' own levels (0 for the finest
+    /// nodes and for nodes in no element).
+    pub node_level: Vec<u8>,
     /// Elements per level.
     pub counts: Vec<usize>,
     /// The smallest stable step (s).
@@ -63,6 +75,9 @@ pub fn partition(
             node_level[n] = 0;
         }
     }
+    for l in node_level.iter_mut().filter(|l| **l == u8::MAX) {
+        *l = 0;
+    }
     let element_level: Vec<u8> = elements
         .iter()
         .map(|nodes| nodes.iter().map(|&n| node_level[n]).min().unwrap_or(0))
@@ -83,9 +98,68 @@ pub fn partition(
         / total;
     LevelPartition {
         element_level,
+        node_level,
         counts,
         finest_step_s,
         element_work_fraction,
+    }
+}
+
+/// The multi-rate state of a solver ([`super::multirate`]).
+#[derive(Clone, Debug)]
+pub struct MultiRate {
+    /// The partition: element levels, counts, work fraction.
+    pub partition: LevelPartition,
+    /// Level of every node.
+    pub node_level: Vec<u8>,
+    /// Per level, its colours: ranges of the solver's element batches (the batches are
+    /// ordered by level).
+    pub(super) level_colours: Vec<Vec<Vec<Range<usize>>>>,
+    /// Acceleration of each node at its last update (output between updates).
+    pub(super) last_acceleration: Vec<P3>,
+    /// Nodes that have not updated since multi-rate stepping began: their velocity is that of
+    /// the last fine half step, so their first update spans `(dt_k + dt) / 2` (a start like
+    /// the central difference's own first half step).
+    pub(super) first_update_pending: Vec<bool>,
+    /// Every node has updated once by this step: the pending flags need no look after it.
+    pub(super) first_updates_end_step: u64,
+}
+
+impl MultiRate {
+    /// Number of levels.
+    pub fn levels(&self) -> usize {
+        self.level_colours.len()
+    }
+
+    /// The steps at which every level updates: multiples of this.
+    pub fn full_cycle_steps(&self) -> u64 {
+        1u64 << (self.levels().max(1) - 1)
+    }
+}
+
+/// The forces of one level's elements into `f`: its colours one after another, the blocks of a
+/// colour in parallel (they share no node).
+pub(super) fn add_level_forces(
+    batches: &[ElementBatch],
+    colours: &[Vec<Range<usize>>],
+    u: &[P3],
+    f: SharedMut<P3>,
+    physical_hourglass: bool,
+    avx2: bool,
+) {
+    for colour in colours {
+        colour.par_iter().for_each(|range| {
+            // SAFETY: blocks of one colour share no node; indices come from the mesh.
+            unsafe {
+                add_block_forces(
+                    &batches[range.clone()],
+                    u,
+                    f.ptr(),
+                    physical_hourglass,
+                    avx2,
+                )
+            }
+        });
     }
 }
 

@@ -8,7 +8,8 @@
 //! - [`model`]: what the engine integrates;
 //! - [`solver`]: the time step, the central-difference update and the energy balance;
 //! - [`run`]: a run with output, progress, checkpoints and resume;
-//! - [`preload`]: static equilibrium by dynamic relaxation.
+//! - [`preload`]: static equilibrium by dynamic relaxation;
+//! - [`levels`], [`multirate`]: the power-of-two level partition and subcycled stepping.
 //!
 //! Time curves ([`Curve`]) and spring-dampers ([`Spring`]) are the model stage's
 //! ([`crate::model`]), re-exported here.
@@ -22,6 +23,7 @@ pub mod energy;
 pub mod levels;
 pub mod linearised;
 pub mod model;
+pub mod multirate;
 pub mod preload;
 mod rigid_body;
 mod rotation;

@@ -95,6 +95,8 @@ pub struct Solver {
     pub(super) avx2: bool,
     pub(super) last_energy: Option<EnergyReport>,
     pub(super) baseline_pending: bool,
+    /// Multi-rate stepping, when on ([`super::multirate`], state in [`super::levels`]).
+    pub(super) multi_rate: Option<super::levels::MultiRate>,
 }
 
 impl Solver {
@@ -267,6 +269,7 @@ impl Solver {
             avx2: super::batch::uses_avx2(),
             last_energy: None,
             baseline_pending: true,
+            multi_rate: None,
             unscaled_dt_s: 0.0,
             model,
         };
@@ -346,6 +349,23 @@ impl Solver {
             .for_each(|c| c.fill([0.0; 3]));
         let _ = n;
         let (u, v, opts) = (&self.u, &self.v, self.kernel);
+        if let Some(mr) = &self.multi_rate {
+            // Levels whose elements are due at this step, finest first (multirate.rs).
+            for (level, colours) in mr.level_colours.iter().enumerate() {
+                if self.step & ((1u64 << level) - 1) != 0 {
+                    break;
+                }
+                super::levels::add_level_forces(
+                    &self.batches,
+                    colours,
+                    u,
+                    f_ptr,
+                    opts.physical_hourglass,
+                    self.avx2,
+                );
+            }
+            return;
+        }
         if !self.batches.is_empty() {
             let (batches, physical, avx2) = (&self.batches, opts.physical_hourglass, self.avx2);
             for colour in &self.colours {
@@ -549,6 +569,17 @@ impl Solver {
             &self.prescribed_velocity,
         );
         let gravity_mass = &self.gravity_mass;
+        let step = self.step;
+        // Multi-rate: node levels and each node's acceleration at its last update.
+        let (node_level, la_ptr, first_ptr) = match &mut self.multi_rate {
+            Some(mr) => (
+                Some(&mr.node_level),
+                Some(SharedMut(mr.last_acceleration.as_mut_ptr())),
+                (step < mr.first_updates_end_step)
+                    .then_some(SharedMut(mr.first_update_pending.as_mut_ptr())),
+            ),
+            None => (None, None, None),
+        };
         (0..n_chunks)
             .into_par_iter()
             .map(|c| {
@@ -564,11 +595,49 @@ impl Solver {
                     let im = inv_mass[nd];
                     // SAFETY: each node index belongs to exactly one chunk.
                     let (un, vn) = unsafe { (&mut *u_ptr.at(nd), &mut *v_ptr.at(nd)) };
+                    // A node of level k updates every 2^k steps with the step 2^k dt and
+                    // between its updates moves on at its velocity (multirate.rs).
+                    let period = node_level.map_or(1u64, |l| 1u64 << l[nd]);
+                    if step & (period - 1) != 0 {
+                        if let (true, Some(la)) = (output, la_ptr) {
+                            // The velocity at t_n between the node's updates, from its last two
+                            // half-step velocities (v_{m+1/2} at t_m + dt_k / 2 and the last
+                            // acceleration between them): second order, and the centred
+                            // velocity of the update at t_m itself.
+                            // SAFETY: as above; la_ptr is Some whenever node_level is.
+                            let a = unsafe { *la.at(nd) };
+                            let since =
+                                (step & (period - 1)) as f64 * dt - 0.5 * dt * period as f64;
+                            let vt = [0, 1, 2].map(|i| vn[i] + since * a[i]);
+                            kinetic += 0.5 * m * (vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
+                            // SAFETY: as above.
+                            unsafe {
+                                *od_ptr.at(nd) = *un;
+                                *ov_ptr.at(nd) = vt;
+                                *oa_ptr.at(nd) = a;
+                            }
+                        }
+                        for i in 0..3 {
+                            un[i] += dt * vn[i];
+                        }
+                        continue;
+                    }
+                    // With one level (or none) period is 1 and this is dt exactly.
+                    let mut dt_node = dt * period as f64;
+                    if let Some(first) = first_ptr {
+                        // SAFETY: as above.
+                        let pending = unsafe { &mut *first.at(nd) };
+                        if *pending {
+                            // The held velocity is of the last fine half step (multirate.rs).
+                            dt_node = 0.5 * (dt_node + dt);
+                            *pending = false;
+                        }
+                    }
                     let (fi, fa) = (f_int[nd], f_aux[nd]);
                     let mut vnew = [0.0; 3];
                     for i in 0..3 {
                         let force = fa[i] - fi[i] + mg * g[i] - alpha * m * vn[i];
-                        vnew[i] = vn[i] + dt * force * im;
+                        vnew[i] = vn[i] + dt_node * force * im;
                         if r & (1 << i) != 0 {
                             vnew[i] = 0.0;
                         } else if r & (1 << (i + PRESCRIBED_SHIFT as usize)) != 0 {
@@ -577,23 +646,29 @@ impl Solver {
                         let vbar = 0.5 * (vn[i] + vnew[i]);
                         if r & ((1 << i) | (1 << (i + PRESCRIBED_SHIFT as usize))) != 0 {
                             // Reaction = m a - f: its work keeps the balance honest.
-                            let reaction = m * (vnew[i] - vn[i]) / dt - force;
-                            w.reaction_j += dt * reaction * vbar;
+                            let reaction = m * (vnew[i] - vn[i]) / dt_node - force;
+                            w.reaction_j += dt_node * reaction * vbar;
                         }
-                        w.internal_j += dt * fi[i] * vbar;
-                        w.aux_j += dt * fa[i] * vbar;
-                        w.gravity_j += dt * mg * g[i] * vbar;
-                        w.mass_damping_j += dt * alpha * m * vn[i] * vbar;
+                        w.internal_j += dt_node * fi[i] * vbar;
+                        w.aux_j += dt_node * fa[i] * vbar;
+                        w.gravity_j += dt_node * mg * g[i] * vbar;
+                        w.mass_damping_j += dt_node * alpha * m * vn[i] * vbar;
                         if output {
                             kinetic += 0.5 * m * vbar * vbar;
                             // SAFETY: as above.
                             unsafe {
                                 (*od_ptr.at(nd))[i] = un[i];
                                 (*ov_ptr.at(nd))[i] = vbar;
-                                (*oa_ptr.at(nd))[i] = (vnew[i] - vn[i]) / dt;
+                                (*oa_ptr.at(nd))[i] = (vnew[i] - vn[i]) / dt_node;
                             }
                         }
                         un[i] += dt * vnew[i];
+                    }
+                    if let Some(la) = la_ptr {
+                        // SAFETY: as above.
+                        unsafe {
+                            *la.at(nd) = [0, 1, 2].map(|i| (vnew[i] - vn[i]) / dt_node);
+                        }
                     }
                     *vn = vnew;
                 }

@@ -62,14 +62,22 @@ pub struct StepProfile {
     pub element_work_fraction: f64,
     /// The same without holding the contact's nodes at the finest level.
     pub element_work_fraction_free_contact: f64,
+    /// Whether the steps were timed with multi-rate stepping on.
+    pub multi_rate: bool,
+    /// With multi-rate stepping: the element forces of each level alone, per element of the
+    /// level and evaluation (ns).
+    pub level_ns_per_element_step: Vec<f64>,
 }
 
 /// Times `steps` steps of each part of the case's rolling step, with the contact search
-/// `search`.
+/// `search`, single rate or with multi-rate stepping over at most `multi_rate_levels` levels
+/// (then `steps` is rounded up to whole cycles of the coarsest level, and the element part is
+/// the mean over a cycle).
 pub fn step_profile(
     loaded: &LoadedCase,
     steps: usize,
     search: crate::contact::ContactSearch,
+    multi_rate_levels: Option<usize>,
 ) -> Result<StepProfile> {
     if !(1..=1_000_000).contains(&steps) {
         return Err(Error::input(
@@ -80,14 +88,42 @@ pub fn step_profile(
     }
     let mut m = build(loaded)?;
     m.contact.pair.search = search;
+    let mut steps = steps;
+    let mut level_ns_per_element_step = Vec::new();
+    if let Some(levels) = multi_rate_levels {
+        let mut finest: Vec<usize> = m.contact.pair.slaves.clone();
+        finest.extend(m.contact.pair.faces.iter().flatten());
+        m.solver.enable_multi_rate(levels, &finest)?;
+    }
     for _ in 0..WARM_UP_STEPS {
         m.solver.step_with(&mut m.contact, false, false)?;
     }
-    let started = Instant::now();
-    for _ in 0..steps {
-        m.solver.compute_internal_forces();
-    }
-    let elements_s = started.elapsed().as_secs_f64() / steps as f64;
+    let elements_s = if let Some(mr) = m.solver.multi_rate().cloned() {
+        let cycle = mr.full_cycle_steps() as usize;
+        steps = steps.div_ceil(cycle) * cycle;
+        // Each level alone, then the element work of a step as the cycle's mean.
+        let mut per_step = 0.0;
+        for (level, &count) in mr.partition.counts.iter().enumerate() {
+            if count == 0 {
+                level_ns_per_element_step.push(0.0);
+                continue;
+            }
+            let started = Instant::now();
+            for _ in 0..steps {
+                m.solver.compute_level_forces(level);
+            }
+            let s = started.elapsed().as_secs_f64() / steps as f64;
+            level_ns_per_element_step.push(s * 1e9 / count as f64);
+            per_step += s / (1u64 << level) as f64;
+        }
+        per_step
+    } else {
+        let started = Instant::now();
+        for _ in 0..steps {
+            m.solver.compute_internal_forces();
+        }
+        started.elapsed().as_secs_f64() / steps as f64
+    };
     // The contact's forces into a scratch array: the same search and force evaluation as in a
     // step, without moving the model.
     let mut force = vec![[0.0; 3]; m.solver.u.len()];
@@ -116,7 +152,7 @@ pub fn step_profile(
     // Power-of-two levels of the elements' stable steps, the contact's nodes at the finest.
     let mut finest: Vec<usize> = m.contact.pair.slaves.clone();
     finest.extend(m.contact.pair.faces.iter().flatten());
-    let transits = super::build::element_transits_s(&m.solver.model);
+    let transits = crate::explicit::multirate::element_transits_s(&m.solver.model);
     let partition = |finest: &[usize]| {
         crate::explicit::levels::partition(
             &m.solver.model.mesh.elements,
@@ -150,5 +186,7 @@ pub fn step_profile(
         level_counts: levels.counts,
         element_work_fraction: levels.element_work_fraction,
         element_work_fraction_free_contact: free_contact.element_work_fraction,
+        multi_rate: multi_rate_levels.is_some(),
+        level_ns_per_element_step,
     })
 }

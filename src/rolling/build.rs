@@ -53,6 +53,17 @@ pub struct ModelInfo {
     /// Smallest wheel-rail gap measured on the meshes before the preload (m; negative:
     /// penetrating by the meshes' faceting).
     pub initial_gap_m: f64,
+    /// Multi-rate stepping of the rolling run, when on.
+    pub step_levels: Option<StepLevels>,
+}
+
+/// The power-of-two step levels of a multi-rate run ([`crate::explicit::multirate`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct StepLevels {
+    /// Elements per level (level k steps at 2^k times the finest step).
+    pub elements_per_level: Vec<usize>,
+    /// Element work relative to single-rate stepping.
+    pub element_work_fraction: f64,
 }
 
 /// A built rolling model, ready to run.
@@ -87,7 +98,7 @@ fn check_contact_before_preload(
     pair: &mut ContactPair,
     source: &str,
 ) -> Result<(usize, crate::contact::Clearance)> {
-    let element_step_s = element_transits_s(model)
+    let element_step_s = crate::explicit::multirate::element_transits_s(model)
         .into_iter()
         .fold(f64::INFINITY, f64::min);
     let capped = pair.cap_stiffness_for_step(&model.nodal_mass_kg, element_step_s);
@@ -186,6 +197,7 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         contact_slaves_with_capped_penalty: capped,
         largest_penalty_scale: pair.largest_penalty_scale(),
         initial_gap_m: clearance.smallest_gap_m,
+        step_levels: None,
     };
     let contact = RollingContact::new(pair, d.rim_and_hub, &case.output, axle, d.wheel_centre_m[1]);
     Ok(RollingModel {
@@ -199,19 +211,6 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         info,
         preload_added_mass_kg,
     })
-}
-
-/// Transit time `L / c` of every element (s): the elements' own stable steps.
-pub(super) fn element_transits_s(model: &Model) -> Vec<f64> {
-    let mesh = &model.mesh;
-    mesh.elements
-        .iter()
-        .enumerate()
-        .map(|(e, conn)| {
-            let x: [P3; 8] = std::array::from_fn(|a| mesh.nodes[conn[a]]);
-            crate::mesh::hex::characteristic_length(&x) / model.element_wave_speed_m_per_s[e]
-        })
-        .collect()
 }
 
 /// Inertia to add per node so that the preload can run at step `dt_s` (with the engine's 0.9
@@ -229,7 +228,7 @@ pub fn preload_scaling(
     let n = model.nodal_mass_kg.len();
     let mut added = vec![0.0; n];
     let mesh = &model.mesh;
-    let transits = element_transits_s(model);
+    let transits = crate::explicit::multirate::element_transits_s(model);
     for (e, conn) in mesh.elements.iter().enumerate() {
         let x: [P3; 8] = std::array::from_fn(|a| mesh.nodes[conn[a]]);
         let ratio = (dt_s / (COURANT_FACTOR * transits[e])).powi(2);

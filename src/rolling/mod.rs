@@ -43,7 +43,7 @@ use preload::staged_preload;
 pub use crate::explicit::run::StopFlag;
 pub use crate::model::case::{embedded_default_case, load_case, LoadedCase, RollingCase};
 pub use crate::model::{case, lateral};
-pub use build::{build, preload_scaling, ModelInfo, RollingModel, INITIAL_GAP_LIMIT_M};
+pub use build::{build, preload_scaling, ModelInfo, RollingModel, StepLevels, INITIAL_GAP_LIMIT_M};
 pub use output::{
     RollingContact, CONTACT_FORCE_COLUMNS, CONTACT_HISTORY_COLUMNS, VIBRATION_COLUMNS,
 };
@@ -71,11 +71,15 @@ pub struct SimulateOptions {
     /// search would test (a panic names the step otherwise): the guard of the region, for
     /// tests. Debug builds check every 64 steps anyway.
     pub verify_contact_region: bool,
+    /// Multi-rate stepping of the rolling run with at most this many power-of-two levels
+    /// ([`crate::explicit::multirate`]; the contact's nodes at the finest); None: single rate.
+    /// The preload always runs single rate.
+    pub multi_rate_levels: Option<usize>,
 }
 
 impl SimulateOptions {
     /// A fresh run into `out_dir`: no resume, no overwrite, no progress bar, the case's end
-    /// time, a stop flag of its own, no per-step contact guard.
+    /// time, a stop flag of its own, no per-step contact guard, single-rate stepping.
     pub fn new(out_dir: PathBuf) -> Self {
         SimulateOptions {
             out_dir,
@@ -85,6 +89,7 @@ impl SimulateOptions {
             end_time_s: None,
             stop: StopFlag::new(),
             verify_contact_region: false,
+            multi_rate_levels: None,
         }
     }
 }
@@ -270,6 +275,16 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         balance_threshold: 0.05,
         stop: opts.stop.clone(),
     };
+    if let Some(levels) = opts.multi_rate_levels {
+        // After the preload and the prescribed motions, so that their nodes stay fine.
+        let mut finest = m.contact.pair.slaves.clone();
+        finest.extend(m.contact.pair.faces.iter().flatten());
+        let p = m.solver.enable_multi_rate(levels, &finest)?;
+        m.info.step_levels = Some(StepLevels {
+            elements_per_level: p.counts.clone(),
+            element_work_fraction: p.element_work_fraction,
+        });
+    }
     m.contact.resuming = opts.resume;
     // The invariants are the rolling run's: the frictionless preload's steps are left out.
     m.contact.pair.reset_monitors();

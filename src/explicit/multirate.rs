@@ -1,0 +1,188 @@
+//! Multi-rate (subcycled) central differences on a power-of-two level partition
+//! ([`super::levels`]): a nodal partition in the manner of Belytschko, Yen & Mullen ("Mixed
+//! methods for time integration", CMAME 17/18, 1979) with linear interpolation of the coarse
+//! nodes' motion across the interface.
+//!
+//! The engine steps at the finest step `dt`. A node of level k is updated every `2^k` steps,
+//! at the steps `n` with `n mod 2^k = 0`, with its own step `dt_k = 2^k dt`:
+//!
+//! ```text
+//! v_{m+1/2} = v_{m-1/2} + dt_k M^-1 f(t_m),     then every fine step  u += dt v_{m+1/2}
+//! ```
+//!
+//! so that over its step it moves linearly, `u(t) = u_m + (t - t_m) v_{m+1/2}`, and arrives at
+//! `u_{m+1} = u_m + dt_k v_{m+1/2}`: the central difference at its own step. Elements are
+//! evaluated at the rate of their finest node (an element of level k at the steps with
+//! `n mod 2^k = 0`), so at a node's update every one of its elements has been evaluated at that
+//! instant, with the coarse neighbours' displacements on their straight paths: the interface
+//! elements see the coarse side interpolated, as the mixed method prescribes. With one level
+//! the update is the single-rate one operation for operation.
+//!
+//! A node's updates fall on the steps where `n mod 2^k = 0` of the solver's step count.
+//!
+//! Nodes that other parts of the engine move or load every step stay at level 0: tie slaves and
+//! masters, rigid-body nodes, prescribed nodes, spring and load nodes, and the caller's (the
+//! contact's slaves and master faces). The energy balance is exact bookkeeping at the steps where
+//! every level updates (`n mod 2^(L-1) = 0`): each node's work increments are its own step's,
+//! `dt_k f . vbar`.
+
+use super::batch::{ElementBatch, LANES};
+use super::colour::{colour_blocks, SharedMut};
+use super::levels::{add_level_forces, partition, LevelPartition, MultiRate};
+use super::model::{Elements, Model};
+use super::solver::{Solver, BLOCK_ELEMENTS, ROLE_RIGID, ROLE_SLAVE};
+use crate::mesh::P3;
+use crate::{Error, Result};
+
+/// Stable step of every element (s): its transit `L / c` (the characteristic length over the
+/// dilatational wave speed).
+pub fn element_transits_s(model: &Model) -> Vec<f64> {
+    let mesh = &model.mesh;
+    mesh.elements
+        .iter()
+        .enumerate()
+        .map(|(e, conn)| {
+            let x: [P3; 8] = std::array::from_fn(|a| mesh.nodes[conn[a]]);
+            crate::mesh::hex::characteristic_length(&x) / model.element_wave_speed_m_per_s[e]
+        })
+        .collect()
+}
+
+impl Solver {
+    /// Switches on multi-rate stepping with at most `max_levels` levels (1 to 16), holding
+    /// `finest_nodes` (and the nodes listed in the module docs) at the finest level; returns the
+    /// partition. The finest step stays the solver's `dt_s`.
+    ///
+    /// Needs the batched element kernel (one-point elements without element damping): an error
+    /// otherwise. The levels' phases follow the solver's step count, so a run resumed from a
+    /// checkpoint steps exactly as the run it continues. Switched on after other stepping (a
+    /// preload), a coarse node's first update takes its velocity of the last fine step as that
+    /// of half its own step earlier: a start-up error of the size of the central difference's
+    /// own first half step.
+    pub fn enable_multi_rate(
+        &mut self,
+        max_levels: usize,
+        finest_nodes: &[usize],
+    ) -> Result<&LevelPartition> {
+        if !(1..=16).contains(&max_levels) {
+            return Err(Error::input(
+                "multi-rate",
+                "levels",
+                format!("must be in [1, 16], got {max_levels}"),
+            ));
+        }
+        let Elements::OnePoint(elements) = &self.model.elements else {
+            return Err(Error::input(
+                "multi-rate",
+                "formulation",
+                "multi-rate stepping needs one-point elements (the batched kernel)",
+            ));
+        };
+        if self.batches.is_empty() {
+            return Err(Error::input(
+                "multi-rate",
+                "formulation",
+                "multi-rate stepping needs the batched kernel (no viscous hourglass, no \
+                 stiffness damping)",
+            ));
+        }
+        let n = self.model.node_count();
+        let mut finest: Vec<usize> = finest_nodes.iter().copied().filter(|&i| i < n).collect();
+        for (i, &r) in self.role.iter().enumerate() {
+            // Tie slaves, rigid nodes, and fixed or prescribed directions that ride on a
+            // curve (prescribed bits) stay fine; plain fixed directions may subcycle.
+            if r & (ROLE_SLAVE | ROLE_RIGID) != 0 || r & 0b0011_1000 != 0 {
+                finest.push(i);
+            }
+        }
+        for t in &self.model.ties {
+            finest.push(t.slave);
+            finest.extend(t.master.iter().copied());
+        }
+        finest.extend(self.discrete_nodes.iter().copied());
+        for pm in &self.model.prescribed {
+            finest.extend(pm.nodes.iter().copied());
+        }
+        let conn: Vec<[usize; 8]> = self.model.mesh.elements.clone();
+        let p = partition(
+            &conn,
+            &element_transits_s(&self.model),
+            n,
+            &finest,
+            max_levels,
+        );
+        // Batches ordered by level, each level packed and coloured on its own (the single-rate
+        // batches freed first: at paper scale they are hundreds of MB).
+        let capacity = self.batches.len() + p.counts.len();
+        self.batches = Vec::new();
+        let mut batches: Vec<ElementBatch> = Vec::with_capacity(capacity);
+        let mut level_colours = Vec::with_capacity(p.counts.len());
+        for level in 0..p.counts.len() {
+            let members: Vec<_> = (0..elements.len())
+                .filter(|&e| p.element_level[e] as usize == level)
+                .map(|e| elements[e])
+                .collect();
+            let offset = batches.len();
+            batches.extend(members.chunks(LANES).map(ElementBatch::pack));
+            let count = batches.len() - offset;
+            let colours = colour_blocks(count, BLOCK_ELEMENTS / LANES, n, |b| {
+                batches[offset + b]
+                    .nodes
+                    .iter()
+                    .flat_map(|lanes| lanes.iter().copied())
+                    .collect()
+            })?;
+            level_colours.push(
+                colours
+                    .into_iter()
+                    .map(|c| {
+                        c.into_iter()
+                            .map(|r| r.start + offset..r.end + offset)
+                            .collect()
+                    })
+                    .collect(),
+            );
+        }
+        self.batches = batches;
+        let node_level = p.node_level.clone();
+        let levels_used = p.counts.len();
+        self.multi_rate = Some(MultiRate {
+            partition: p,
+            node_level,
+            level_colours,
+            last_acceleration: vec![[0.0; 3]; n],
+            first_update_pending: vec![true; n],
+            first_updates_end_step: self.step + (1u64 << (levels_used.max(1) - 1)),
+        });
+        Ok(&self.multi_rate.as_ref().expect("set above").partition)
+    }
+
+    /// The multi-rate state, when on.
+    pub fn multi_rate(&self) -> Option<&MultiRate> {
+        self.multi_rate.as_ref()
+    }
+}
+
+impl Solver {
+    /// Only the element forces of `level` (multi-rate on), added to `f_int`: for timing each
+    /// level's element work (the next step zeroes `f_int` again). Does nothing with multi-rate
+    /// off or past the last level.
+    pub fn compute_level_forces(&mut self, level: usize) {
+        let Some(mr) = &self.multi_rate else {
+            return;
+        };
+        let Some(colours) = mr.level_colours.get(level) else {
+            return;
+        };
+        // Accumulates into f_int without zeroing it: the timing is of the elements alone.
+        let f = SharedMut(self.f_int.as_mut_ptr());
+        add_level_forces(
+            &self.batches,
+            colours,
+            &self.u,
+            f,
+            self.kernel.physical_hourglass,
+            self.avx2,
+        );
+    }
+}

