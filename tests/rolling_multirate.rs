@@ -158,7 +158,7 @@ fn demo_case3_multi_rate_against_single_rate() {
             worst_shift = worst_shift.max((y / x - 1.0).abs());
         }
     }
-    println!("largest peak shift {:.2} %", 100.0 * worst_shift);
+    println!("largest peak shift: {:.2} %", 100.0 * worst_shift);
     let _ = std::fs::remove_dir_all(&root);
     // The coarse parts step at up to 32 times the single-rate step, closer to their own
     // stable step, where central differences undo more of the lumped mass's lowering of the
