@@ -232,7 +232,7 @@ pub fn run(args: StabilityArgs) -> Result<()> {
         )?,
     };
     apply_overrides(&args, &model, &mut op)?;
-    let (rail, rail_models) = model.rail(op.wheel_x_m)?;
+    let (rail, rail_models) = model.rail(op.wheel_x_m, op.contact_rail_y_m)?;
     let wheel = model.wheel_body(&op)?;
     let point = model.analyse(&op, &wheel, &rail)?;
     let sweep = sweep

@@ -130,7 +130,7 @@ pub fn run(
         model.material,
     )?;
     let t = Instant::now();
-    let (rail, _) = model.rail(op.wheel_x_m)?;
+    let (rail, _) = model.rail(op.wheel_x_m, op.contact_rail_y_m)?;
     let rail_model_seconds = t.elapsed().as_secs_f64();
     // The lowest `wheel_coordinates` coordinates (by frequency).
     let mut wheel = model.wheel.contact_body(

@@ -117,8 +117,14 @@ impl StabilityModel {
         })
     }
 
-    /// The rail's modal models and body with the wheel at `wheel_x_m` along the rail.
-    pub fn rail(&self, wheel_x_m: f64) -> Result<(ModalBody, Vec<RailModalModel>)> {
+    /// The rail's modal models and body with the wheel at `wheel_x_m` along the rail and the
+    /// contact `contact_offset_m` off the rail's centre line (the operating point's
+    /// `contact_rail_y_m`).
+    pub fn rail(
+        &self,
+        wheel_x_m: f64,
+        contact_offset_m: f64,
+    ) -> Result<(ModalBody, Vec<RailModalModel>)> {
         // The beam model stands for the rail below RAIL_BAND_HZ only (no cross-section
         // deformation), so more rail modes would add coordinates, not accuracy.
         let truncation =
@@ -127,7 +133,7 @@ impl StabilityModel {
             .iter()
             .map(|&d| rail_modal_model(&self.track, d, wheel_x_m, truncation))
             .collect::<Result<_>>()?;
-        Ok((rail_body(&models), models))
+        Ok((rail_body(&models, contact_offset_m), models))
     }
 
     /// The wheel's body at the operating point's contact.

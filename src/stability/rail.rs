@@ -40,9 +40,10 @@
 //! The receptance `H(w) = u_c / F_c` at the contact node solves `(K + i w C - w^2 M) u = e_c`
 //! ([`super::banded`]). Left out (documented in docs/stability.md): web bending and foot
 //! flapping (a beam has no cross-section deformation: the lateral receptance of the real rail
-//! head above about 1 kHz is larger), the cross receptances (vertical-lateral through a contact
-//! off the rail's centre line and the 1:40 inclination, longitudinal-vertical through the
-//! crown's offset from the bending axis), the sleeper's own flexibility and rocking, and the wheel's motion along the rail (the receptance is that of a
+//! head above about 1 kHz is larger), the longitudinal-vertical cross receptance (through the
+//! crown's offset from the bending axis; the vertical-lateral ones, through the 1:40
+//! inclination and a contact off the centre line, are the rail body's:
+//! [`super::rail_modes::rail_body`]), the sleeper's own flexibility and rocking, and the wheel's motion along the rail (the receptance is that of a
 //! fixed point; the wheel covers 0.5 m of rail in the 18 ms the demo cases roll).
 
 // Index loops mirror the matrix formulas term by term.
@@ -196,6 +197,9 @@ pub struct BeamModel {
     /// The section centroid's displacement at the contact station, likewise (the FE track's
     /// mass-weighted section mean).
     pub centroid: Vec<(usize, f64)>,
+    /// The twist (rad) at the contact station (lateral model only; empty otherwise): a point of
+    /// the crown `y'` off the rail's centre line moves vertically by `y' phi`.
+    pub twist: Vec<(usize, f64)>,
 }
 
 /// Which point of the section a transfer function loads and observes.
@@ -482,14 +486,15 @@ impl Track {
         // h below the crown is v - (z - z_S) phi = v - (d_S - h) phi, d_S the shear centre's
         // depth.
         let c = map[node_dof[contact_node]];
-        let (contact, centroid) = if direction == Direction::Lateral {
+        let (contact, centroid, twist) = if direction == Direction::Lateral {
             let d_s = rail.shear_centre_below_crown_m;
             (
                 vec![(c, 1.0), (c + 2, -d_s)],
                 vec![(c, 1.0), (c + 2, -(d_s - rail.centroid_below_crown_m))],
+                vec![(c + 2, 1.0)],
             )
         } else {
-            (vec![(c, 1.0)], vec![(c, 1.0)])
+            (vec![(c, 1.0)], vec![(c, 1.0)], Vec::new())
         };
         Ok(BeamModel {
             dofs: free,
@@ -497,6 +502,7 @@ impl Track {
             bandwidth,
             contact,
             centroid,
+            twist,
         })
     }
 
@@ -536,6 +542,18 @@ impl BeamModel {
         point: SectionPoint,
     ) -> Result<Vec<c64>> {
         let weights = self.point(point);
+        self.transfer_between(s, mass_damping_per_s, weights, weights)
+    }
+
+    /// The transfer function from a load `sum w_i f_i` (the weights `load`: the generalised
+    /// force of a unit force there) to the displacement `sum v_i u_i` (`response`).
+    pub fn transfer_between(
+        &self,
+        s: &[c64],
+        mass_damping_per_s: f64,
+        load: &[(usize, f64)],
+        response: &[(usize, f64)],
+    ) -> Result<Vec<c64>> {
         s.iter()
             .map(|&s| {
                 let mut a = BandMatrix::zeros(self.dofs, self.bandwidth, self.bandwidth);
@@ -543,11 +561,11 @@ impl BeamModel {
                     a.add(i, j, s * s * m + s * (c + mass_damping_per_s * m) + k)?;
                 }
                 let mut b = vec![c64::new(0.0, 0.0); self.dofs];
-                for &(d, w) in weights {
+                for &(d, w) in load {
                     b[d] += c64::new(w, 0.0);
                 }
                 a.solve(&mut b)?;
-                Ok(weights
+                Ok(response
                     .iter()
                     .fold(c64::new(0.0, 0.0), |sum, &(d, w)| sum + b[d] * w))
             })

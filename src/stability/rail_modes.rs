@@ -37,6 +37,9 @@ pub struct RailMode {
     pub damping_ratio: f64,
     /// Mass-normalised displacement at the contact (m per unit coordinate, 1/sqrt(kg)).
     pub participation: f64,
+    /// Mass-normalised twist at the contact station (rad per unit coordinate; lateral modes,
+    /// zero otherwise and for the lumped residual terms).
+    pub twist: f64,
 }
 
 impl RailMode {
@@ -183,6 +186,7 @@ pub fn modal_model(
             omega_rad_per_s: w,
             damping_ratio: (d[(a, a)] / (2.0 * w)).max(0.0),
             participation: phi,
+            twist: model.twist.iter().map(|&(dof, wt)| wt * x[(dof, q)]).sum(),
         });
     }
     let mut damping_coupling = Vec::new();
@@ -222,6 +226,7 @@ pub fn modal_model(
                 omega_rad_per_s: wb,
                 damping_ratio: bin[2] / bin[1],
                 participation: bin[0].sqrt(),
+                twist: 0.0,
             });
         }
     }
@@ -249,18 +254,36 @@ pub fn relative_error(model: &RailModalModel, frequencies_hz: &[f64], h: &[c64])
     (max, (sum / h.len().max(1) as f64).sqrt())
 }
 
-/// The rail as one modal body at the contact: the three directions' terms, each moving the
-/// contact point along its axis (x, y or z).
-pub fn rail_body(models: &[RailModalModel]) -> super::system::ModalBody {
+/// The rail as one modal body at the contact, in track axes. The beams' directions are the
+/// rail's own, inclined 1:40 towards the track centre: a displacement `(v', w')` along the
+/// rail's lateral and vertical axes is `(v' c - w' s, v' s + w' c)` in track axes (the
+/// section's placement, [`crate::mesh::track::place_rail_point`]). A lateral-torsional mode
+/// moves the crown by `v'` (its participation) and, at `contact_offset_m` off the rail's centre
+/// line, vertically by `y' phi` (its twist). So the body carries the cross receptances:
+/// vertical-lateral through the inclination and the offset (the lumped residual terms carry
+/// no twist). Longitudinal terms move the contact along x.
+pub fn rail_body(models: &[RailModalModel], contact_offset_m: f64) -> super::system::ModalBody {
     use super::system::{Body, DofTag, ModalBody, ModalDof};
+    let (sin, cos) = crate::geometry::rail54e1::INCLINATION_RAD.sin_cos();
     let mut body = ModalBody::default();
     for model in models {
         let offset = body.dofs.len();
-        let axis = model.direction.axis();
         for m in &model.modes {
             let index = body.dofs.len();
-            let mut shape = [0.0; 3];
-            shape[axis] = m.participation;
+            let (lateral, vertical) = match model.direction {
+                Direction::Lateral => (m.participation, contact_offset_m * m.twist),
+                Direction::Vertical => (0.0, m.participation),
+                Direction::Longitudinal => (0.0, 0.0),
+            };
+            let shape = if model.direction == Direction::Longitudinal {
+                [m.participation, 0.0, 0.0]
+            } else {
+                [
+                    0.0,
+                    lateral * cos - vertical * sin,
+                    lateral * sin + vertical * cos,
+                ]
+            };
             let f = m.omega_rad_per_s / std::f64::consts::TAU;
             body.dofs.push(ModalDof {
                 omega_rad_per_s: m.omega_rad_per_s,
