@@ -573,7 +573,10 @@ fn frictionless_undamped_system_has_the_frequencies_of_the_receptance_coupling()
         if a == 0.0 {
             uncoupled.push(w);
         } else if let Some(p) = poles.iter_mut().find(|p| (p.0 / w - 1.0).abs() < 1e-14) {
+            // Coordinates at one frequency (the rail's residual pairs): one combination joins
+            // the pole, the other keeps the frequency.
             p.1 += a;
+            uncoupled.push(w);
         } else {
             poles.push((w, a));
         }
@@ -677,11 +680,15 @@ fn unstable_eigenvalue_converges_as_the_wheel_modes_grow() {
         let dg = (e.growth_rate_per_s - last.growth_rate_per_s).abs() / last.growth_rate_per_s;
         let df = (e.frequency_hz - last.frequency_hz).abs() / last.frequency_hz;
         println!("  fmax {f:6.0} Hz: growth differs from the 10 kHz value by {:.2e}, frequency by {:.2e}", dg, df);
-        // Monotone convergence (allowing rounding-level plateaus once converged).
-        assert!(
-            dg <= previous * 1.01 + 1e-6,
-            "growth difference rose at {f} Hz"
-        );
+        // Monotone convergence up to 5 kHz (allowing rounding-level plateaus once converged).
+        // Above it the difference (1e-4 to 3e-4 with the rail's cross receptances) is of the
+        // size of the 10 kHz reference's own truncation error, as for the rate below.
+        if *f <= 5000.0 {
+            assert!(
+                dg <= previous * 1.01 + 1e-6,
+                "growth difference rose at {f} Hz"
+            );
+        }
         previous = dg;
     }
     // The rate: least-squares slope of ln(difference) against ln(fmax) up to 5 kHz (above it
@@ -704,7 +711,7 @@ fn unstable_eigenvalue_converges_as_the_wheel_modes_grow() {
     println!("growth-rate truncation error ~ fmax^{slope:.2} (1.5-5 kHz against 10 kHz)");
     // The default fmax (5 kHz) must give the growth within 2 % of the converged value: well
     // inside the spread of the explicit runs' measured growth rates it is compared with
-    // (docs/operating-point.md), so truncation cannot decide that comparison (measured 0.50 %).
+    // (docs/operating-point.md), so truncation cannot decide that comparison (measured 0.013 %).
     let at5 = &found[4];
     assert!(
         (at5.growth_rate_per_s / last.growth_rate_per_s - 1.0).abs() < 0.02,
@@ -1219,16 +1226,18 @@ fn stability_against_the_explicit_demo80_runs() {
     }
 }
 
-/// The rail body's 2 x 2 receptance in the track's lateral-vertical plane, with the cross
-/// terms, against direct solves of the beams: `T H' T^T` with `T` the 1:40 rotation and `H'`
-/// the local matrix, `H'_ll` the crown's lateral point receptance, `H'_lw` from a lateral force
-/// to the vertical motion `y' phi` of a contact `y'` off the centre line, `H'_ww` the vertical
-/// beam's plus `y'^2` times the twist's. Undamped (pads and ballast without damping), so the
-/// modal body's receptance is exact but for its truncation.
+/// The rail body's 3 x 3 receptance at the contact, cross terms included, against direct
+/// solves of the beams: `T H' T^T` with `T` the 1:40 rotation about x and `H'` the local matrix
+/// in (x, y', z'): `H'_y'y'` the crown's lateral point receptance, `H'_y'z'` from a lateral
+/// force to the vertical motion `y' phi` of a contact `y'` off the centre line, `H'_z'z'` the
+/// vertical beam's plus `y'^2` times the twist's, `H'_xx` the bar's plus the crown's
+/// longitudinal motion `-d_C theta` from vertical bending, `H'_xz'` from a vertical force to
+/// that motion. Undamped (pads and ballast without damping), so the modal body's receptance is
+/// exact but for its truncation.
 #[test]
 fn rail_cross_receptances_match_direct_solves() {
     use faer::c64;
-    use squeal::stability::rail::{Direction, SectionPoint};
+    use squeal::stability::rail::{BeamModel, Direction, SectionPoint};
     use squeal::stability::rail_modes::{rail_body, rail_modal_model};
     let (_, mut track) = case3_track();
     track.pad[1] = 0.0;
@@ -1239,68 +1248,69 @@ fn rail_cross_receptances_match_direct_solves() {
         .map(|&d| rail_modal_model(&track, d, x, 7_500.0).unwrap())
         .collect();
     let body = rail_body(&models, offset);
+    let bar = track.beam_model(Direction::Longitudinal, x).unwrap();
     let lateral = track.beam_model(Direction::Lateral, x).unwrap();
     let vertical = track.beam_model(Direction::Vertical, x).unwrap();
-    let crown = lateral.point(SectionPoint::Crown).to_vec();
+    let crown = |m: &BeamModel| m.point(SectionPoint::Crown).to_vec();
     let lifted: Vec<(usize, f64)> = lateral
         .twist
         .iter()
         .map(|&(d, w)| (d, w * offset))
         .collect();
     let (sin, cos) = squeal::geometry::rail54e1::INCLINATION_RAD.sin_cos();
-    let t = [[cos, -sin], [sin, cos]];
+    let t = [[1.0, 0.0, 0.0], [0.0, cos, -sin], [0.0, sin, cos]];
     let freqs: Vec<f64> = (0..100).map(|i| 60.0 + 49.3 * i as f64).collect();
-    let (mut sum, mut worst, mut coupling) = (0.0, 0.0f64, 0.0f64);
+    let (mut sum, mut worst) = (0.0, 0.0f64);
+    let (mut lateral_vertical, mut longitudinal_vertical) = (0.0f64, 0.0f64);
     for &f in &freqs {
         let s = [c64::new(0.0, std::f64::consts::TAU * f)];
-        let one =
-            |m: &squeal::stability::rail::BeamModel, a: &[(usize, f64)], b: &[(usize, f64)]| {
-                m.transfer_between(&s, 0.0, a, b).unwrap()[0]
-            };
-        let h_ll = one(&lateral, &crown, &crown);
-        let h_lw = one(&lateral, &crown, &lifted);
-        let h_ww = one(&lateral, &lifted, &lifted)
-            + one(
-                &vertical,
-                vertical.point(SectionPoint::Crown),
-                vertical.point(SectionPoint::Crown),
-            );
-        let local = [[h_ll, h_lw], [h_lw, h_ww]];
+        let one = |m: &BeamModel, a: &[(usize, f64)], b: &[(usize, f64)]| {
+            m.transfer_between(&s, 0.0, a, b).unwrap()[0]
+        };
+        let h_ll = one(&lateral, &crown(&lateral), &crown(&lateral));
+        let h_lw = one(&lateral, &crown(&lateral), &lifted);
+        let h_ww =
+            one(&lateral, &lifted, &lifted) + one(&vertical, &crown(&vertical), &crown(&vertical));
+        let h_xx = one(&bar, &crown(&bar), &crown(&bar))
+            + one(&vertical, &vertical.crown_axial, &vertical.crown_axial);
+        let h_xw = one(&vertical, &crown(&vertical), &vertical.crown_axial);
+        let zero = c64::new(0.0, 0.0);
+        let local = [[h_xx, zero, h_xw], [zero, h_ll, h_lw], [h_xw, h_lw, h_ww]];
         let modal = body.receptance(s[0]);
         let (mut diff, mut norm) = (0.0, 0.0);
-        for a in 0..2 {
-            for b in 0..2 {
-                let mut direct = c64::new(0.0, 0.0);
-                for i in 0..2 {
-                    for j in 0..2 {
-                        direct += local[i][j] * (t[a][i] * t[b][j]);
+        let mut direct = [[zero; 3]; 3];
+        for a in 0..3 {
+            for b in 0..3 {
+                for i in 0..3 {
+                    for j in 0..3 {
+                        direct[a][b] += local[i][j] * (t[a][i] * t[b][j]);
                     }
                 }
-                diff += (modal[a + 1][b + 1] - direct).norm().powi(2);
-                norm += direct.norm().powi(2);
-                if a != b {
-                    coupling =
-                        coupling.max(direct.norm() / local[0][0].norm().max(local[1][1].norm()));
-                }
+                diff += (modal[a][b] - direct[a][b]).norm().powi(2);
+                norm += direct[a][b].norm().powi(2);
             }
         }
+        let ratio =
+            |a: usize, b: usize| direct[a][b].norm() / direct[a][a].norm().max(direct[b][b].norm());
+        lateral_vertical = lateral_vertical.max(ratio(1, 2));
+        longitudinal_vertical = longitudinal_vertical.max(ratio(0, 2));
         let e = (diff / norm).sqrt();
         sum += e * e;
         worst = worst.max(e);
     }
     let rms = (sum / freqs.len() as f64).sqrt();
     println!(
-        "lateral-vertical receptance matrix, 60-4941 Hz, contact {:.0} mm off the centre line: \
-         modal body against direct solves rms {:.2} %, largest {:.2} %; largest cross term {:.3} \
-         of the larger point receptance",
+        "receptance matrix, 60-4941 Hz, contact {:.0} mm off the centre line: modal body \
+         against direct solves rms {:.2} %, largest {:.2} %; largest cross terms against the \
+         larger point receptance: lateral-vertical {lateral_vertical:.3}, \
+         longitudinal-vertical {longitudinal_vertical:.3}",
         offset * 1e3,
         100.0 * rms,
         100.0 * worst,
-        coupling
     );
     // The point receptances' own modal models are within 1.7 % rms, 3.6 % at most
-    // (rail_modal_model_matches_the_direct_frequency_response_below_5_khz); the twist's
-    // residual is not lumped, which the cross and vertical terms add.
+    // (rail_modal_model_matches_the_direct_frequency_response_below_5_khz); the twist's and the
+    // bending rotation's residuals are not lumped, which the cross terms add.
     assert!(rms < 0.03, "{rms}");
-    assert!(coupling > 0.01, "{coupling}");
+    assert!(lateral_vertical > 0.01 && longitudinal_vertical > 0.01);
 }

@@ -40,10 +40,10 @@
 //! The receptance `H(w) = u_c / F_c` at the contact node solves `(K + i w C - w^2 M) u = e_c`
 //! ([`super::banded`]). Left out (documented in docs/stability.md): web bending and foot
 //! flapping (a beam has no cross-section deformation: the lateral receptance of the real rail
-//! head above about 1 kHz is larger), the longitudinal-vertical cross receptance (through the
-//! crown's offset from the bending axis; the vertical-lateral ones, through the 1:40
-//! inclination and a contact off the centre line, are the rail body's:
-//! [`super::rail_modes::rail_body`]), the sleeper's own flexibility and rocking, and the wheel's motion along the rail (the receptance is that of a
+//! head above about 1 kHz is larger; the cross receptances, vertical-lateral through the 1:40
+//! inclination and a contact off the centre line, longitudinal-vertical through the crown's
+//! height above the bending axis, are the rail body's: [`super::rail_modes::rail_body`]), the
+//! sleeper's own flexibility and rocking, and the wheel's motion along the rail (the receptance is that of a
 //! fixed point; the wheel covers 0.5 m of rail in the 18 ms the demo cases roll).
 
 // Index loops mirror the matrix formulas term by term.
@@ -200,6 +200,10 @@ pub struct BeamModel {
     /// The twist (rad) at the contact station (lateral model only; empty otherwise): a point of
     /// the crown `y'` off the rail's centre line moves vertically by `y' phi`.
     pub twist: Vec<(usize, f64)>,
+    /// The crown's longitudinal motion from vertical bending, `-d_C theta` with `d_C` the
+    /// crown's height above the centroid (vertical model only; empty otherwise): a section
+    /// rotated by theta moves a point at height z along the rail by `-z theta`.
+    pub crown_axial: Vec<(usize, f64)>,
 }
 
 /// Which point of the section a transfer function loads and observes.
@@ -496,6 +500,11 @@ impl Track {
         } else {
             (vec![(c, 1.0)], vec![(c, 1.0)], Vec::new())
         };
+        let crown_axial = if direction == Direction::Vertical {
+            vec![(c + 1, -rail.centroid_below_crown_m)]
+        } else {
+            Vec::new()
+        };
         Ok(BeamModel {
             dofs: free,
             entries,
@@ -503,6 +512,7 @@ impl Track {
             contact,
             centroid,
             twist,
+            crown_axial,
         })
     }
 

@@ -40,6 +40,9 @@ pub struct RailMode {
     /// Mass-normalised twist at the contact station (rad per unit coordinate; lateral modes,
     /// zero otherwise and for the lumped residual terms).
     pub twist: f64,
+    /// Mass-normalised longitudinal motion of the crown from vertical bending (m per unit
+    /// coordinate; vertical modes, zero otherwise and for the lumped residual terms).
+    pub crown_axial: f64,
 }
 
 impl RailMode {
@@ -176,17 +179,20 @@ pub fn modal_model(
             .sum()
     });
     let mut modes = Vec::new();
-    let mut kept_flexibility = 0.0;
     for (a, &q) in kept.iter().enumerate() {
         let w2 = values[q];
         let w = w2.sqrt();
         let phi = model.at(SectionPoint::Crown, |d| x[(d, q)]);
-        kept_flexibility += phi * phi / w2;
         modes.push(RailMode {
             omega_rad_per_s: w,
             damping_ratio: (d[(a, a)] / (2.0 * w)).max(0.0),
             participation: phi,
             twist: model.twist.iter().map(|&(dof, wt)| wt * x[(dof, q)]).sum(),
+            crown_axial: model
+                .crown_axial
+                .iter()
+                .map(|&(dof, wt)| wt * x[(dof, q)])
+                .sum(),
         });
     }
     let mut damping_coupling = Vec::new();
@@ -197,10 +203,19 @@ pub fn modal_model(
             }
         }
     }
-    // The modes above the truncation, lumped by octave into one term each that keeps their
-    // summed residue and their static flexibility: w_b^2 = sum phi^2 / sum (phi^2 / w^2).
-    // The last bin takes everything from 4 truncations up.
-    let mut bins: Vec<[f64; 3]> = vec![[0.0; 3]; 3];
+    // The modes above the truncation, lumped by octave. The contact point moves by the main
+    // participation and, in the lateral and vertical models, by a second component (the twist,
+    // the crown's longitudinal motion from bending); the bin's flexibility of the pair,
+    // `B = sum v v^T / w^2` with `v = (main, second)`, is kept exactly by one term per
+    // eigenvector of B at the bin's frequency `w_b^2 = sum main^2 / sum (main^2 / w^2)`: a
+    // term `sqrt(lambda) w_b e` has `v v^T / w_b^2 = lambda e e^T`. With no second component it
+    // is one term of residue `sum main^2`. The last bin takes everything from 4 truncations up.
+    let second = |q: usize| -> f64 {
+        let of = |w: &[(usize, f64)]| w.iter().map(|&(d, wt)| wt * x[(d, q)]).sum::<f64>();
+        of(&model.twist) + of(&model.crown_axial)
+    };
+    // Per bin: sum main^2, sum main^2 / w^2, damping weight, and B (3 entries).
+    let mut bins: Vec<[f64; 6]> = vec![[0.0; 6]; 3];
     for q in 0..n {
         let w2 = values[q];
         if w2 <= w_max * w_max {
@@ -208,6 +223,7 @@ pub fn modal_model(
         }
         let octave = ((w2.sqrt() / w_max).log2().floor() as usize).min(2);
         let phi = model.at(SectionPoint::Crown, |d| x[(d, q)]);
+        let extra = second(q);
         let bin = &mut bins[octave];
         bin[0] += phi * phi;
         bin[1] += phi * phi / w2;
@@ -217,21 +233,48 @@ pub fn modal_model(
             cx += x[(i, q)] * cv * x[(j, q)];
         }
         bin[2] += phi * phi / w2 * (cx / (2.0 * w2.sqrt())).max(0.0);
-        kept_flexibility += phi * phi / w2;
+        bin[3] += phi * phi / w2;
+        bin[4] += phi * extra / w2;
+        bin[5] += extra * extra / w2;
     }
+    let is_lateral = direction == Direction::Lateral;
     for bin in bins {
-        if bin[0] > 0.0 && bin[1] > 0.0 {
-            let wb = (bin[0] / bin[1]).sqrt();
+        if !(bin[0] > 0.0 && bin[1] > 0.0) {
+            continue;
+        }
+        let wb = (bin[0] / bin[1]).sqrt();
+        let damping_ratio = bin[2] / bin[1];
+        // Eigenpairs of the symmetric 2 x 2 B.
+        let (a, b, c) = (bin[3], bin[4], bin[5]);
+        let mean = 0.5 * (a + c);
+        let radius = (0.25 * (a - c) * (a - c) + b * b).sqrt();
+        for lambda in [mean + radius, mean - radius] {
+            if lambda <= 1e-12 * (a + c) || lambda.is_nan() {
+                continue;
+            }
+            // Eigenvector (b, lambda - a) or (lambda - c, b), whichever is better conditioned.
+            let (e0, e1) = if (lambda - a).abs() + b.abs() >= (lambda - c).abs() + b.abs() {
+                (b, lambda - a)
+            } else {
+                (lambda - c, b)
+            };
+            let norm = e0.hypot(e1);
+            let (e0, e1) = if norm > 0.0 {
+                (e0 / norm, e1 / norm)
+            } else {
+                (1.0, 0.0)
+            };
+            let scale = lambda.sqrt() * wb;
             modes.push(RailMode {
                 omega_rad_per_s: wb,
-                damping_ratio: bin[2] / bin[1],
-                participation: bin[0].sqrt(),
-                twist: 0.0,
+                damping_ratio,
+                participation: scale * e0,
+                twist: if is_lateral { scale * e1 } else { 0.0 },
+                crown_axial: if is_lateral { 0.0 } else { scale * e1 },
             });
         }
     }
     let static_flexibility = model.receptance(&[0.0])?[0].re;
-    let _ = kept_flexibility;
     Ok(RailModalModel {
         direction,
         modes,
@@ -259,9 +302,11 @@ pub fn relative_error(model: &RailModalModel, frequencies_hz: &[f64], h: &[c64])
 /// rail's lateral and vertical axes is `(v' c - w' s, v' s + w' c)` in track axes (the
 /// section's placement, [`crate::mesh::track::place_rail_point`]). A lateral-torsional mode
 /// moves the crown by `v'` (its participation) and, at `contact_offset_m` off the rail's centre
-/// line, vertically by `y' phi` (its twist). So the body carries the cross receptances:
-/// vertical-lateral through the inclination and the offset (the lumped residual terms carry
-/// no twist). Longitudinal terms move the contact along x.
+/// line, vertically by `y' phi` (its twist); a vertical mode moves the crown along the rail
+/// by `-d_C theta` (its bending rotation, the crown `d_C` above the centroid). So the body
+/// carries the cross receptances: vertical-lateral through the inclination and the offset,
+/// longitudinal-vertical through the crown's height (the lumped residual terms carry neither).
+/// Longitudinal terms move the contact along x.
 pub fn rail_body(models: &[RailModalModel], contact_offset_m: f64) -> super::system::ModalBody {
     use super::system::{Body, DofTag, ModalBody, ModalDof};
     let (sin, cos) = crate::geometry::rail54e1::INCLINATION_RAD.sin_cos();
@@ -279,7 +324,7 @@ pub fn rail_body(models: &[RailModalModel], contact_offset_m: f64) -> super::sys
                 [m.participation, 0.0, 0.0]
             } else {
                 [
-                    0.0,
+                    m.crown_axial,
                     lateral * cos - vertical * sin,
                     lateral * sin + vertical * cos,
                 ]
