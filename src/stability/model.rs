@@ -34,7 +34,7 @@ pub struct Settings {
 }
 
 /// Rail modes to 1.5 fmax explicitly: 1-2 % rms error of the rail's receptance below fmax
-/// against the direct solve (tests/stability.rs), with half the coordinates of 2 fmax.
+/// against the direct solve (tests/stability_rail.rs), with half the coordinates of 2 fmax.
 pub const RAIL_TRUNCATION_FACTOR: f64 = 1.5;
 
 /// The band the rail's beam model is meant for (Hz): above about 5 kHz the real rail's

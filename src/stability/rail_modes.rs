@@ -17,7 +17,7 @@
 //! coupled modal equations). `D` is positive semi-definite and the stiffness and mass are
 //! those of the beam, so the model is passive: it cannot make the coupled system unstable by
 //! itself. Its error against the direct frequency-response solve of the same beam model, which
-//! keeps every mode, is measured (tests/stability.rs, docs/stability.md).
+//! keeps every mode, is measured (tests/stability_rail.rs, docs/stability.md).
 
 // Index loops mirror the matrix formulas term by term.
 #![allow(clippy::needless_range_loop)]
