@@ -3,6 +3,9 @@
 //! normalisation, the explicit engine's FE track and its friction; docs/stability.md). Bad
 //! input exit codes: tests/cli_stability.rs.
 
+mod stability_case;
+use stability_case::case3_track;
+
 use squeal::stability::contact::{ContactFrame, TangentialLaw};
 use squeal::stability::system::{Body, CoupledSystem, DofTag, ModalBody, ModalDof};
 
@@ -239,16 +242,6 @@ fn wheel_modes_are_mass_normalised_and_sampled_on_the_tread() {
         "{:?}",
         r.tag
     );
-}
-
-fn case3_track() -> (
-    squeal::model::case::LoadedCase,
-    squeal::stability::rail::Track,
-) {
-    let loaded =
-        squeal::model::case::load_case(std::path::Path::new("data/cases/case3-demo.json")).unwrap();
-    let track = squeal::stability::rail::Track::from_case(&loaded).unwrap();
-    (loaded, track)
 }
 
 #[test]

@@ -2,15 +2,8 @@
 //! beam elements against closed forms, the modal models against direct solves of the same
 //! beams (point and cross receptances), and the beams against the project's FE track.
 
-fn case3_track() -> (
-    squeal::model::case::LoadedCase,
-    squeal::stability::rail::Track,
-) {
-    let loaded =
-        squeal::model::case::load_case(std::path::Path::new("data/cases/case3-demo.json")).unwrap();
-    let track = squeal::stability::rail::Track::from_case(&loaded).unwrap();
-    (loaded, track)
-}
+mod stability_case;
+use stability_case::case3_track;
 
 /// Frequencies (Hz, ascending) of `K x = w^2 M x` through `M = L L^T`: `L^-1 K L^-T` is
 /// symmetric.
