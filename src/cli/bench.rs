@@ -54,6 +54,16 @@ pub enum SearchArg {
     Full,
 }
 
+/// `k:value` for each level k, space separated.
+fn by_level<T>(values: &[T], show: impl Fn(&T) -> String) -> String {
+    values
+        .iter()
+        .enumerate()
+        .map(|(k, v)| format!("{k}:{}", show(v)))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 fn rolling(a: RollingBenchArgs) -> Result<()> {
     let loaded = squeal::rolling::load_case(&a.scenario)?;
     let search = match a.contact_search {
@@ -73,31 +83,19 @@ fn rolling(a: RollingBenchArgs) -> Result<()> {
         p.steps
     );
     if p.multi_rate {
-        let per_level: Vec<String> = p
-            .level_ns_per_element_step
-            .iter()
-            .enumerate()
-            .map(|(k, ns)| format!("{k}:{ns:.1}"))
-            .collect();
         println!(
             "levels={} (multi-rate: level k steps every 2^k steps) ns_per_element_step_by_level {}",
             p.level_counts.len(),
-            per_level.join(" ")
+            by_level(&p.level_ns_per_element_step, |ns| format!("{ns:.1}"))
         );
     } else {
         println!("levels=1 (single rate: every element at the smallest stable step)");
     }
-    let counts: Vec<String> = p
-        .level_counts
-        .iter()
-        .enumerate()
-        .map(|(k, c)| format!("{k}:{c}"))
-        .collect();
     println!(
         "step_levels elements per level (power-of-two partition, contact nodes at level 0) {} \
          multi_rate_element_work={:.3} of single rate ({:.3} if the contact's nodes followed \
          their elements)",
-        counts.join(" "),
+        by_level(&p.level_counts, |c| c.to_string()),
         p.element_work_fraction,
         p.element_work_fraction_free_contact
     );

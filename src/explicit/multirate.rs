@@ -103,9 +103,8 @@ impl Solver {
         for pm in &self.model.prescribed {
             finest.extend(pm.nodes.iter().copied());
         }
-        let conn: Vec<[usize; 8]> = self.model.mesh.elements.clone();
         let p = partition(
-            &conn,
+            &self.model.mesh.elements,
             &element_transits_s(&self.model),
             n,
             &finest,

@@ -184,7 +184,7 @@ impl PatchResolution {
     }
 
     /// One line: the nodes across, the peak pressure and, when given, Hertz's peak for the same
-    /// normal force.
+    /// normal force with the ratio.
     pub fn statement(&self, hertz_peak_mpa: Option<f64>) -> String {
         let mut s = format!(
             "{} x {} nodes across the patch, peak p {:.0} MPa",
@@ -201,14 +201,11 @@ impl PatchResolution {
 
     /// The same, short enough for a chart's axis label.
     pub fn short_statement(&self, hertz_peak_mpa: Option<f64>) -> String {
-        let mut s = format!(
-            "{} x {} nodes across, peak p {:.0} MPa",
+        let hertz = hertz_peak_mpa.map_or(String::new(), |p0| format!(", Hertz p0 {p0:.0} MPa"));
+        format!(
+            "{} x {} nodes across, peak p {:.0} MPa{hertz}",
             self.nodes_along_x, self.nodes_across_y, self.peak_pressure_mpa
-        );
-        if let Some(p0) = hertz_peak_mpa {
-            s.push_str(&format!(", Hertz p0 {p0:.0} MPa"));
-        }
-        s
+        )
     }
 }
 
