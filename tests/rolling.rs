@@ -6,35 +6,8 @@ use std::path::Path;
 use squeal::rolling::{load_case, simulate, SimulateOptions, StopFlag};
 use squeal::table::Table;
 
-fn column<'a>(t: &'a Table, name: &str) -> &'a [f64] {
-    let k = t
-        .headers
-        .iter()
-        .position(|h| h == name)
-        .unwrap_or_else(|| panic!("no column {name}"));
-    &t.columns[k]
-}
-
-/// Runs `loaded` into a fresh temporary directory named after `tag` (and the process id).
-fn run_in_temp(
-    loaded: &squeal::rolling::LoadedCase,
-    tag: &str,
-    end_time_s: Option<f64>,
-) -> (squeal::rolling::RunRecord, std::path::PathBuf) {
-    let dir = std::env::temp_dir().join(format!("{tag}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let record = simulate(
-        loaded,
-        &SimulateOptions {
-            end_time_s,
-            // The region of interest's guard, every step of every run here.
-            verify_contact_region: true,
-            ..SimulateOptions::new(dir.clone())
-        },
-    )
-    .unwrap();
-    (record, dir)
-}
+mod tiny_case;
+use tiny_case::{column, edited_tiny_case, refused_with, run_in_temp};
 
 #[test]
 fn tiny_case_runs_and_keeps_the_contact_invariants() {
@@ -365,63 +338,6 @@ fn bad_case_files_name_the_field() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The tiny case's files copied to a temp dir with `edit` applied to the model scenario and
-/// `case_edit` to the case file; returns the dir and the loaded case.
-fn edited_tiny_case(
-    tag: &str,
-    edit: (&str, &str),
-    case_edit: (&str, &str),
-) -> (std::path::PathBuf, squeal::rolling::case::LoadedCase) {
-    let dir = std::env::temp_dir().join(format!("squeal_rolling_{tag}_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::copy("data/wheels/ns_intercity_920.json", dir.join("wheel.json")).unwrap();
-    let scen = std::fs::read_to_string("data/models/ci-tiny.json")
-        .unwrap()
-        .replace("../wheels/ns_intercity_920.json", "wheel.json");
-    assert!(scen.contains(edit.0), "{}", edit.0);
-    std::fs::write(dir.join("ci-tiny.json"), scen.replace(edit.0, edit.1)).unwrap();
-    // Copied beside its model scenario in a temporary folder.
-    let case = std::fs::read_to_string("data/cases/case3-ci.json")
-        .unwrap()
-        .replace("../models/ci-tiny.json", "ci-tiny.json");
-    assert!(case.contains(case_edit.0), "{}", case_edit.0);
-    std::fs::write(
-        dir.join("case.json"),
-        case.replace(case_edit.0, case_edit.1),
-    )
-    .unwrap();
-    let loaded = load_case(&dir.join("case.json")).unwrap();
-    (dir, loaded)
-}
-
-fn simulate_in(dir: &Path, loaded: &squeal::rolling::case::LoadedCase) -> squeal::Result<()> {
-    simulate(loaded, &SimulateOptions::new(dir.join("out"))).map(|_| ())
-}
-
-/// A wheel placed 0.8 mm above the rail passes the check on the meshes (at most 1 mm) but is
-/// not in contact after a 200-step preload (0.3 ms of the 13 ms a 0.8 mm fall takes): an error
-/// naming the initial gap, not a silent run of a flying wheel.
-#[test]
-fn wheel_not_in_contact_after_preload_is_an_error() {
-    let (dir, loaded) = edited_tiny_case(
-        "gap",
-        ("\"initial_gap_mm\": 0.0", "\"initial_gap_mm\": 0.8"),
-        ("\"max_steps\": 2500", "\"max_steps\": 200"),
-    );
-    refused_with(&dir, &loaded, &["initial_gap_mm", "after the preload"]);
-}
-
-/// Runs the case, expects an input error (exit code 2) whose text holds every one of `words`,
-/// and removes `dir`.
-fn refused_with(dir: &Path, loaded: &squeal::rolling::case::LoadedCase, words: &[&str]) {
-    let err = simulate_in(dir, loaded).expect_err("bad input must be refused");
-    let text = err.to_string();
-    assert!(words.iter().all(|w| text.contains(w)), "{words:?}: {text}");
-    assert_eq!(err.exit_code(), 2, "{text}");
-    assert!(!dir.join("out").join("contact_forces.csv").exists());
-    let _ = std::fs::remove_dir_all(dir);
-}
-
 /// Refused on the meshes before the preload, naming the field: a wheel 5 mm above the rail
 /// (the limit is 1 mm), and a penalty scale of 100 where the tiny model's step carries about
 /// 23.5 (`step_profile ... setup-only`). No output directory is written.
@@ -443,28 +359,6 @@ fn gap_and_penalty_scale_are_refused_before_the_preload() {
         &loaded,
         &["case.json", "penalty_scale", "violates the time step"],
     );
-}
-
-/// A stop asked for during the static preload ends the run with `Error::Interrupted` (exit code
-/// 130, the shell's code for an interrupted command), not with a half-relaxed start.
-#[test]
-fn stop_during_the_preload_is_an_interruption() {
-    let loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
-    let dir = std::env::temp_dir().join(format!("squeal_rolling_stop_{}", std::process::id()));
-    let stop = StopFlag::new();
-    stop.request();
-    let err = simulate(
-        &loaded,
-        &SimulateOptions {
-            stop,
-            ..SimulateOptions::new(dir.clone())
-        },
-    )
-    .expect_err("a stopped preload must not start the run");
-    assert!(matches!(err, squeal::Error::Interrupted(_)), "{err}");
-    assert!(err.to_string().contains("preload"), "{err}");
-    assert_eq!(err.exit_code(), 130);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A run stopped at 1 ms and resumed from its checkpoint writes the same contact forces and
@@ -520,39 +414,6 @@ fn resumed_run_matches_the_uninterrupted_one() {
         assert_eq!(a, b, "{f} differs after resume");
     }
     let _ = std::fs::remove_dir_all(&base);
-}
-
-/// The normal force equals the applied load within 1 % after the preload. The preload of
-/// the tiny model is asked for the load within 0.2 % (its load criterion, beside the residual):
-/// it must get there within its step budget, record the error it reached, and the run's first
-/// sample must show the vertical contact force (the normal force's vertical part plus friction,
-/// zero at rest) balancing `(m_wheelset + m_sprung) g` within 0.5 %: the margin over 0.2 % is
-/// for the step from the relaxed state (velocities zeroed, friction restored) to the first
-/// sample.
-#[test]
-fn preloaded_wheel_carries_the_static_load() {
-    let mut loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
-    loaded.case.preload.max_steps = 20_000;
-    loaded.case.preload.damping_per_s = 450.0;
-    loaded.case.preload.load_tolerance = 0.002;
-    let (record, dir) = run_in_temp(&loaded, "squeal_rolling_static", Some(2e-5));
-    let preload = record.preload.expect("preload report");
-    assert!(preload.converged, "{preload:?}");
-    let error = record.model.preload_load_error;
-    assert!(error.abs() < 0.002, "preload load error {error}");
-    let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
-    let vertical = column(&forces, "vertical_force_n")[0];
-    let load = record.model.static_wheel_load_n;
-    eprintln!(
-        "preload {} steps, load error {:+.3} %; first sample {vertical:.1} N of {load:.1} N",
-        preload.steps,
-        100.0 * error
-    );
-    assert!(
-        (vertical - load).abs() < 0.005 * load,
-        "vertical contact force {vertical} N vs static wheel load {load} N"
-    );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// With no lateral motion of the axle the creep force stays longitudinal: the half wheelset
@@ -910,94 +771,6 @@ fn demo_cases_reach_the_papers_operating_point() {
         "case 4 saturation"
     );
     assert!(lateral_share >= 0.95, "case 4 lateral share");
-}
-
-/// Static normal contact at 1 mm (`data/cases/static-hertz.json`, 251 k elements;
-/// `cargo test --release --test rolling -- --ignored static`, about 25 minutes). Passed on
-/// 2026-11-23 with the wheel 28 mm to the field side (contact 2.6 mm from the rail centre, inside
-/// the crown's R300 arc) and the preload's load criterion: 45 400 preload steps, residual 8e-5,
-/// N 109.6 kN of 109.7 kN; a 8.59 mm (Hertz 8.32, +3.2 %), b 3.81 mm (3.57, +6.7 %), peak
-/// 1620 MPa (1762, -8.1 %), 123 contact nodes. (At the tape circle the patch straddled the
-/// R300|R80 junction: b +33 %; and a residual-only preload stopped with 12.6 % of the load
-/// missing.) Checks the patch of the preloaded wheel against Hertz for the local
-/// curvatures of S1002 on 54E1 at 1:40 at the measured normal force. Semi-axes from the
-/// pressure-weighted second moments, which for a Hertz pressure `p0 sqrt(1 - x²/a² - y²/b²)`
-/// are `a² / 5` and `b² / 5`; peak pressure against `3 N / (2 pi a b)`. 10 %: the issue's
-/// tolerance (nodal pressures on a 1 mm grid over a patch of about 17 x 8 mm).
-#[test]
-#[ignore]
-fn static_patch_at_1mm_matches_hertz() {
-    use squeal::kalker::hertz::HertzContact;
-    use squeal::kalker::snapshot::PatchSnapshot;
-    let loaded = load_case(Path::new("data/cases/static-hertz.json")).unwrap();
-    let (record, dir) = run_in_temp(&loaded, "squeal_static_hertz", None);
-    let preload = record.preload.expect("preload");
-    let snap: PatchSnapshot = serde_json::from_str(
-        &std::fs::read_to_string(dir.join("patches/patch_0000000.0us.json")).unwrap(),
-    )
-    .unwrap();
-    let total: f64 = snap.points.iter().map(|p| p.pressure_pa).sum();
-    let centre = |f: &dyn Fn(&squeal::kalker::snapshot::PatchPoint) -> f64| {
-        snap.points
-            .iter()
-            .map(|p| p.pressure_pa * f(p))
-            .sum::<f64>()
-            / total
-    };
-    let (xc, yc) = (centre(&|p| p.x_m), centre(&|p| p.y_m));
-    let a = (5.0 * centre(&|p| (p.x_m - xc).powi(2))).sqrt();
-    let b = (5.0 * centre(&|p| (p.y_m - yc).powi(2))).sqrt();
-    let peak = snap
-        .points
-        .iter()
-        .map(|p| p.pressure_pa)
-        .fold(0.0, f64::max);
-    let wheel_y_m = loaded.scenario.scenario.wheel_position.tape_circle_y_mm * 1e-3;
-    let radius_m = loaded.scenario.wheel.nominal_radius_mm * 1e-3;
-    let contact = squeal::kalker::profiles::s1002_on_54e1(wheel_y_m, radius_m).unwrap();
-    let hertz = HertzContact::from_curvatures(
-        contact.curvature_x_per_m,
-        contact.curvature_y_per_m,
-        snap.normal_force_n,
-        squeal::kalker::Material::STEEL,
-    )
-    .unwrap();
-    eprintln!(
-        "preload residual {:.2e} ({} steps); N {:.1} kN (static load {:.1} kN); patch a {:.2} mm \
-         b {:.2} mm p_max {:.0} MPa ({} nodes, centre y {:.1} mm); Hertz a {:.2} mm b {:.2} mm \
-         p0 {:.0} MPa at contact y {:.1} mm",
-        preload.relative_residual,
-        preload.steps,
-        snap.normal_force_n / 1e3,
-        record.model.static_wheel_load_n / 1e3,
-        a * 1e3,
-        b * 1e3,
-        peak / 1e6,
-        snap.points.len(),
-        yc * 1e3,
-        hertz.semi_axis_a_m * 1e3,
-        hertz.semi_axis_b_m * 1e3,
-        hertz.peak_pressure_pa / 1e6,
-        contact.contact_y_m * 1e3
-    );
-    let forces = Table::read(&dir.join("contact_forces.csv")).unwrap();
-    let vertical = column(&forces, "vertical_force_n")[0];
-    let load = record.model.static_wheel_load_n;
-    assert!(
-        (vertical - load).abs() < 0.01 * load,
-        "{vertical} vs {load}"
-    );
-    for (what, fe, reference) in [
-        ("a", a, hertz.semi_axis_a_m),
-        ("b", b, hertz.semi_axis_b_m),
-        ("p0", peak, hertz.peak_pressure_pa),
-    ] {
-        assert!(
-            (fe - reference).abs() < 0.1 * reference,
-            "{what}: FE {fe} vs Hertz {reference}"
-        );
-    }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Carter-like adhesion zone on the FE patch ("steady rolling with a prescribed

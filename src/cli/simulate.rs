@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use squeal::model::case::PreloadMethod;
 use squeal::rolling::{load_case, simulate, SimulateOptions, StopFlag};
 use squeal::{Error, Result};
 
@@ -62,6 +63,19 @@ pub struct SimulateArgs {
     /// (docs/rolling.md). Off by default: the single-rate run is the reference.
     #[arg(long)]
     pub multi_rate: bool,
+    /// How to find the static preload, instead of the case's `preload.method`: `implicit`
+    /// (Newton's method with a sparse Cholesky) or `dynamic-relaxation`.
+    #[arg(long, value_enum)]
+    pub preload: Option<PreloadChoice>,
+}
+
+/// `--preload` values.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PreloadChoice {
+    /// Newton's method on the static problem (docs/rolling.md, "Static preload").
+    Implicit,
+    /// Dynamic relaxation.
+    DynamicRelaxation,
 }
 
 /// A stop flag set by Ctrl-C, SIGTERM or SIGHUP: the first signal asks the run to stop at the
@@ -134,6 +148,10 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             stop: stop.clone(),
             verify_contact_region: false,
             multi_rate_levels: args.multi_rate.then_some(MULTI_RATE_LEVELS),
+            preload_method: args.preload.map(|p| match p {
+                PreloadChoice::Implicit => PreloadMethod::Implicit,
+                PreloadChoice::DynamicRelaxation => PreloadMethod::DynamicRelaxation,
+            }),
         };
         println!(
             "case {} ({}) -> {}",

@@ -32,6 +32,7 @@ pub mod region;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::explicit::aux::RankOneStiffness;
 use crate::explicit::AuxForces;
 use crate::mesh::tie::project_on_face;
 use crate::mesh::{Mesh, P3};
@@ -855,6 +856,34 @@ impl AuxForces for ContactPair {
         }
         self.largest_shear_over_bound = largest_ratio;
         self.deepest_penetration_m = deepest;
+    }
+
+    /// One term per active slave: `kf b bᵀ` with `b = n` on the slave and `-w_j n` on the face's
+    /// nodes, the derivative of the normal penalty force `-kf g n` (`g = (x_s - sum w_j x_j) . n`)
+    /// with the normal and the weights held (their variation is second order in the
+    /// penetration). The tangential forces are left out: the static solver runs frictionless.
+    fn stiffness_terms(&self, out: &mut Vec<RankOneStiffness>) {
+        for &k in &self.region.slaves {
+            let k = k as usize;
+            let st = &self.state[k];
+            if !st.active || st.face == u32::MAX {
+                continue;
+            }
+            let face = self.faces[st.face as usize];
+            let kf = self.face_stiffness_n_per_m[st.face as usize].min(self.slave_stiffness_cap[k]);
+            out.push(RankOneStiffness {
+                stiffness_n_per_m: kf,
+                direction: st.normal,
+                nodes: [self.slaves[k], face[0], face[1], face[2], face[3]],
+                coefficients: [
+                    1.0,
+                    -st.weights[0],
+                    -st.weights[1],
+                    -st.weights[2],
+                    -st.weights[3],
+                ],
+            });
+        }
     }
 
     fn checkpoint_state(&self) -> Vec<f64> {

@@ -10,6 +10,10 @@ pub trait AuxForces {
     /// Adds forces at time `time_s` for the state `u` (at t_n) and `v` (at t_{n-1/2}) into
     /// `force` (N). Must not allocate.
     fn add_forces(&mut self, time_s: f64, dt_s: f64, u: &[P3], v: &[P3], force: &mut [P3]);
+    /// The linearised stiffness `-d f / d u` of the forces added by the last
+    /// [`AuxForces::add_forces`], as rank-one terms (the static solver's tangent; penalty
+    /// contact gives one per active slave). None by default.
+    fn stiffness_terms(&self, _out: &mut Vec<RankOneStiffness>) {}
     /// Called after each history sample at `time_s` (the module writes its own histories).
     fn on_sample(&mut self, _time_s: f64, _out_dir: &std::path::Path) -> Result<()> {
         Ok(())
@@ -51,6 +55,21 @@ pub trait AuxForces {
             ))
         }
     }
+}
+
+/// A rank-one stiffness `k b bᵀ` with `b = sum_j c_j (e_{node_j} ⊗ n)`: a penalty spring of
+/// stiffness `k` along the unit direction `n` acting on the combination `sum_j c_j u_j` of node
+/// displacements (contact: the slave with `c = 1`, the master face's nodes with `c = -w_j`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RankOneStiffness {
+    /// Stiffness `k` (N/m).
+    pub stiffness_n_per_m: f64,
+    /// Unit direction `n`.
+    pub direction: P3,
+    /// Nodes (unused entries have coefficient 0).
+    pub nodes: [usize; 5],
+    /// Coefficients `c_j`.
+    pub coefficients: [f64; 5],
 }
 
 /// No auxiliary forces.

@@ -30,6 +30,7 @@ mod rotation;
 pub mod run;
 pub mod solver;
 pub mod state;
+pub mod statics;
 mod timestep;
 
 pub use crate::model::curve::Curve;

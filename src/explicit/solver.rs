@@ -491,51 +491,7 @@ impl Solver {
         let dt = self.dt_s;
         let t = self.time_s;
         let t_next = t + dt;
-        self.element_forces();
-        // Auxiliary forces: nodal loads, springs, then the caller's (contact).
-        self.f_aux
-            .par_chunks_mut(NODE_CHUNK)
-            .for_each(|c| c.fill([0.0; 3]));
-        for load in &self.model.loads {
-            let s = load.curve.value(t) / load.nodes.len() as f64;
-            for &nd in &load.nodes {
-                for i in 0..3 {
-                    self.f_aux[nd][i] += s * load.total_force_n[i];
-                }
-            }
-        }
-        for (k, sp) in self.model.springs.iter().enumerate() {
-            let (ua, va) = (self.u[sp.node_a], self.v[sp.node_a]);
-            let (ub, vb) = match sp.node_b {
-                Some(b) => (self.u[b], self.v[b]),
-                None => ([0.0; 3], [0.0; 3]),
-            };
-            let f: P3 = [0, 1, 2].map(|i| {
-                sp.stiffness_n_per_m[i] * (ub[i] - ua[i])
-                    + sp.damping_n_s_per_m[i] * (vb[i] - va[i])
-            });
-            self.spring_force[k] = f;
-            for i in 0..3 {
-                self.f_aux[sp.node_a][i] += f[i];
-            }
-            if let Some(b) = sp.node_b {
-                for i in 0..3 {
-                    self.f_aux[b][i] -= f[i];
-                }
-            }
-        }
-        aux.add_forces(t, dt, &self.u, &self.v, &mut self.f_aux);
-        // Tie slaves pass their forces to the masters.
-        for p in &self.model.ties {
-            let (fi, fa) = (self.f_int[p.slave], self.f_aux[p.slave]);
-            for (k, m) in p.master.iter().enumerate() {
-                let w = p.weights[k];
-                for i in 0..3 {
-                    self.f_int[*m][i] += w * fi[i];
-                    self.f_aux[*m][i] += w * fa[i];
-                }
-            }
-        }
+        self.gather_forces(aux, t, dt);
         // Prescribed velocities of t_{n+1/2}.
         for pm in &self.model.prescribed {
             let vel = match pm.kind {
@@ -738,6 +694,58 @@ impl Solver {
         self.time_s = t_next;
         self.step += 1;
         Ok(())
+    }
+
+    /// The forces of the state `(u_n, v_{n-1/2})` at time `t`: elements into `f_int`; nodal
+    /// loads, springs and the caller's forces (contact) into `f_aux`; tie slaves' forces passed
+    /// on to their masters. Shared by the time step and the static solver, so that both see the
+    /// same forces.
+    pub(super) fn gather_forces<A: AuxForces + ?Sized>(&mut self, aux: &mut A, t: f64, dt: f64) {
+        self.element_forces();
+        // Auxiliary forces: nodal loads, springs, then the caller's (contact).
+        self.f_aux
+            .par_chunks_mut(NODE_CHUNK)
+            .for_each(|c| c.fill([0.0; 3]));
+        for load in &self.model.loads {
+            let s = load.curve.value(t) / load.nodes.len() as f64;
+            for &nd in &load.nodes {
+                for i in 0..3 {
+                    self.f_aux[nd][i] += s * load.total_force_n[i];
+                }
+            }
+        }
+        for (k, sp) in self.model.springs.iter().enumerate() {
+            let (ua, va) = (self.u[sp.node_a], self.v[sp.node_a]);
+            let (ub, vb) = match sp.node_b {
+                Some(b) => (self.u[b], self.v[b]),
+                None => ([0.0; 3], [0.0; 3]),
+            };
+            let f: P3 = [0, 1, 2].map(|i| {
+                sp.stiffness_n_per_m[i] * (ub[i] - ua[i])
+                    + sp.damping_n_s_per_m[i] * (vb[i] - va[i])
+            });
+            self.spring_force[k] = f;
+            for i in 0..3 {
+                self.f_aux[sp.node_a][i] += f[i];
+            }
+            if let Some(b) = sp.node_b {
+                for i in 0..3 {
+                    self.f_aux[b][i] -= f[i];
+                }
+            }
+        }
+        aux.add_forces(t, dt, &self.u, &self.v, &mut self.f_aux);
+        // Tie slaves pass their forces to the masters.
+        for p in &self.model.ties {
+            let (fi, fa) = (self.f_int[p.slave], self.f_aux[p.slave]);
+            for (k, m) in p.master.iter().enumerate() {
+                let w = p.weights[k];
+                for i in 0..3 {
+                    self.f_int[*m][i] += w * fi[i];
+                    self.f_aux[*m][i] += w * fa[i];
+                }
+            }
+        }
     }
 
     /// Work increments, over the step just taken, of the springs' forces on their nodes, of the

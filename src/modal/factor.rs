@@ -58,7 +58,7 @@ impl ShiftInvert<'_> {
 /// one with the smaller factor kept: faer's AMD, and our nested dissection
 /// ([`crate::modal::ordering`]), which wins on the wheel (86.9 M factor entries against 102.4 M
 /// at 102 k dofs; METIS through CHOLMOD reaches 55 M) while AMD wins on small or slender models.
-pub(super) fn symbolic_pencil(a: &SparseColMat<usize, f64>) -> Result<SymbolicCholesky<usize>> {
+pub(crate) fn symbolic_pencil(a: &SparseColMat<usize, f64>) -> Result<SymbolicCholesky<usize>> {
     let analyse = |ordering: SymmetricOrdering<'_, usize>| {
         factorize_symbolic_cholesky(a.symbolic(), Side::Lower, ordering, Default::default())
             .map_err(|e| Error::Numerical(format!("symbolic Cholesky of K - s M failed: {e:?}")))
@@ -128,7 +128,7 @@ pub fn sturm_count(
 
 /// Which numeric factorisation of a pencil matrix.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum FactorKind {
+pub(crate) enum FactorKind {
     /// `L Lᵀ` (positive definite: the shift below the spectrum).
     Llt,
     /// `L D Lᵀ`, no pivoting (indefinite: the Sturm count at the band edge).
@@ -136,7 +136,7 @@ pub(super) enum FactorKind {
 }
 
 /// Numeric factor values of `a` on its symbolic structure; the faer error as text on failure.
-pub(super) fn numeric_factor(
+pub(crate) fn numeric_factor(
     a: &SparseColMat<usize, f64>,
     symbolic: &SymbolicCholesky<usize>,
     kind: FactorKind,

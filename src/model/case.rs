@@ -68,10 +68,27 @@ pub struct CreepageRamp {
     pub end_s: f64,
 }
 
-/// Static preload by dynamic relaxation.
+/// How the static preload is found.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PreloadMethod {
+    /// Newton's method on the static problem with a sparse Cholesky of the tangent
+    /// ([`crate::explicit::statics`]), as the paper's implicit static solution. The default.
+    #[default]
+    Implicit,
+    /// Dynamic relaxation ([`crate::explicit::preload`]): the fallback, for models whose
+    /// factor does not fit in memory (the paper-resolution cases).
+    DynamicRelaxation,
+}
+
+/// Static preload: the method, and the settings of dynamic relaxation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PreloadSpec {
+    /// How the equilibrium is found (default: implicit). The other settings but `tolerance`
+    /// and `load_tolerance` are dynamic relaxation's.
+    #[serde(default)]
+    pub method: PreloadMethod,
     /// Mass-proportional damping during relaxation (1/s). The slowest mode to settle is the
     /// wheelset sinking into its track (about 45 Hz with the preload's added inertia on the
     /// demo model): critical damping `2 omega` is about 570/s; 450/s (slightly underdamped)

@@ -35,10 +35,12 @@ use serde::Serialize;
 
 use crate::explicit::preload::PreloadReport;
 use crate::explicit::run::{run, HistoryProbe, Quantity, RunOptions, RunSummary};
+use crate::explicit::statics::StaticReport;
+use crate::model::case::PreloadMethod;
 use crate::{Error, Result};
 use drive::{hold_forward_speed, loaded_centre_and_radius, prescribe_creepage};
 use instruments::ContactPointRecord;
-use preload::staged_preload;
+use preload::{implicit_preload, staged_preload};
 
 pub use crate::explicit::run::StopFlag;
 pub use crate::model::case::{embedded_default_case, load_case, LoadedCase, RollingCase};
@@ -75,6 +77,8 @@ pub struct SimulateOptions {
     /// ([`crate::explicit::multirate`]; the contact's nodes at the finest); None: single rate.
     /// The preload always runs single rate.
     pub multi_rate_levels: Option<usize>,
+    /// The preload method instead of the case's, when set.
+    pub preload_method: Option<PreloadMethod>,
 }
 
 impl SimulateOptions {
@@ -90,6 +94,7 @@ impl SimulateOptions {
             stop: StopFlag::new(),
             verify_contact_region: false,
             multi_rate_levels: None,
+            preload_method: None,
         }
     }
 }
@@ -109,6 +114,8 @@ pub struct RunRecord {
     pub model: ModelInfo,
     /// Preload result (None when resumed).
     pub preload: Option<PreloadReport>,
+    /// The implicit static preload, when it was used.
+    pub static_preload: Option<StaticReport>,
     /// Engine summary.
     pub run: RunSummary,
     /// Mean traction coefficient (longitudinal / normal force) over the last quarter of the
@@ -205,18 +212,25 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         m.contact.pair.verify_region_every_steps = 1;
     }
     let mut preload = None;
+    let mut static_preload = None;
     if !opts.resume {
-        if let Some(dt) = case.preload.time_step_s {
-            m.solver.set_inertia_scaling(&m.preload_added_mass_kg, dt)?;
-        }
         // Frictionless preload: while the wheel settles its rim turns a little and the contact
         // points creep sideways; with friction that path would leave the lateral stick forces
         // saturated at the bound before the wheel has even started rolling.
         let friction = m.contact.pair.suspend_friction();
-        let report = staged_preload(&mut m, &case.preload, &opts.stop);
-        m.solver.clear_inertia_scaling();
+        let method = opts.preload_method.unwrap_or(case.preload.method);
+        let outcome = match method {
+            PreloadMethod::DynamicRelaxation => {
+                relaxation_preload(&mut m, &case, opts).map(|r| preload = Some(r))
+            }
+            PreloadMethod::Implicit => {
+                implicit_preload(&mut m, &case.preload, &opts.stop).map(|r| {
+                    static_preload = Some(r);
+                })
+            }
+        };
         m.contact.pair.resume_friction(friction);
-        let report = report?;
+        outcome?;
         if !m.contact.pair.state.iter().any(|s| s.active) {
             return Err(Error::input(
                 loaded.source.display().to_string(),
@@ -226,18 +240,13 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
             ));
         }
         if opts.progress {
-            eprintln!(
-                "preload: {} steps, relative residual {:.2e}{}",
-                report.steps,
-                report.relative_residual,
-                if report.converged {
-                    ""
-                } else {
-                    " (step limit reached; run continues)"
-                }
-            );
+            if let Some(r) = &static_preload {
+                eprintln!(
+                    "preload (implicit): {} iterations, {} factorisations, relative residual {:.2e}, {:.1} s",
+                    r.iterations, r.factorisations, r.relative_residual, r.seconds
+                );
+            }
         }
-        preload = Some(report);
         // Rolling: v = V e_x + (V / R) e_y x (x - centre) on the wheelset; the sprung mass
         // moves with it.
         // The preloaded wheel has sunk into its track: take the centre from the hub nodes and
@@ -299,6 +308,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         settings: case,
         model: m.info,
         preload,
+        static_preload,
         run: summary,
         measured_traction_coefficient: traction,
         initial_normal_force_n: initial_n,
@@ -312,6 +322,33 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         serde_json::to_string_pretty(&record).map_err(|e| Error::Numerical(e.to_string()))?;
     std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
     Ok(record)
+}
+
+/// The static preload by dynamic relaxation, with the preload's inertia scaling.
+fn relaxation_preload(
+    m: &mut RollingModel,
+    case: &RollingCase,
+    opts: &SimulateOptions,
+) -> Result<PreloadReport> {
+    if let Some(dt) = case.preload.time_step_s {
+        m.solver.set_inertia_scaling(&m.preload_added_mass_kg, dt)?;
+    }
+    let report = staged_preload(m, &case.preload, &opts.stop);
+    m.solver.clear_inertia_scaling();
+    let report = report?;
+    if opts.progress {
+        eprintln!(
+            "preload: {} steps, relative residual {:.2e}{}",
+            report.steps,
+            report.relative_residual,
+            if report.converged {
+                ""
+            } else {
+                " (step limit reached; run continues)"
+            }
+        );
+    }
+    Ok(report)
 }
 
 /// Wheel centre (mean of the hub bore nodes) displacement and velocity, x / y / z.

@@ -280,6 +280,10 @@ impl AuxForces for RollingContact {
         self.pair.add_forces(time_s, dt_s, u, v, force);
     }
 
+    fn stiffness_terms(&self, out: &mut Vec<crate::explicit::aux::RankOneStiffness>) {
+        self.pair.stiffness_terms(out);
+    }
+
     fn on_sample(&mut self, time_s: f64, _out_dir: &Path) -> Result<()> {
         self.write_forces(time_s)
     }

@@ -5,6 +5,7 @@
 use super::build::RollingModel;
 use crate::explicit::preload::{relax, PreloadOptions, PreloadReport};
 use crate::explicit::run::StopFlag;
+use crate::explicit::statics::{solve_static, StaticOptions, StaticReport};
 use crate::model::case;
 use crate::{Error, Result};
 
@@ -90,6 +91,45 @@ pub(super) fn staged_preload(
         )
     })?;
     report.steps = total_steps;
+    Ok(report)
+}
+
+/// Static preload by Newton's method ([`crate::explicit::statics`]), frictionless like the
+/// relaxation. The wheelset's translation along the rail is held: on frictionless contact
+/// nothing but the faceting of the meshes resists it (its reaction is reported, and small), and
+/// its rotation about the axle is held likewise. The sprung mass needs no staging: its spring
+/// is in the tangent, so the equilibrium carries the full static load at once. Converged: the
+/// relative residual below the case's tolerance and the vertical contact force within
+/// `load_tolerance` of the static wheel load, as for the relaxation.
+pub(super) fn implicit_preload(
+    m: &mut RollingModel,
+    preload: &case::PreloadSpec,
+    stop: &StopFlag,
+) -> Result<StaticReport> {
+    let mut held = vec![[false; 3]; m.solver.model.rigid_bodies.len()];
+    held[m.axle_body][0] = true;
+    let report = solve_static(
+        &mut m.solver,
+        &mut m.contact,
+        &StaticOptions {
+            tolerance: preload.tolerance,
+            held_rigid_translations: held,
+            trace: std::env::var_os("SQUEAL_PRELOAD_TRACE").is_some(),
+            stop: stop.clone(),
+            ..Default::default()
+        },
+    )?;
+    let load_error = preload_load_error(m);
+    m.info.preload_load_error = load_error;
+    if load_error.abs() >= preload.load_tolerance {
+        return Err(Error::Numerical(format!(
+            "static preload converged (relative residual {:.2e}) but the wheel carries {:+.2} % \
+             of its static load (tolerance {:.2} %): lower preload.tolerance",
+            report.relative_residual,
+            100.0 * load_error,
+            100.0 * preload.load_tolerance
+        )));
+    }
     Ok(report)
 }
 
