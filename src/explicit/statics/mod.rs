@@ -249,6 +249,12 @@ pub fn solve_static<A: AuxForces + ?Sized>(
             if rebuild {
                 let mut keys = base.keys.clone();
                 keys.extend_from_slice(&contact_keys);
+                if !terms.is_empty() {
+                    // Room for the active set to grow by a ring of nodes without a new
+                    // symbolic analysis: a slave next to a contact slave meets a face next to
+                    // the contact faces.
+                    keys.extend(widened_contact_keys(&base.keys, n, solver, &dofs, &terms));
+                }
                 keys.par_sort_unstable();
                 keys.dedup();
                 tangent = Some(Tangent::from_keys(n, &keys));
@@ -478,6 +484,53 @@ fn base_keys(solver: &Solver, dofs: &ReducedDofs) -> Vec<u64> {
 /// The nodes of each rank-one term, in order: what identifies an active set.
 fn term_signature(terms: &[RankOneStiffness]) -> Vec<[usize; 5]> {
     terms.iter().map(|t| t.nodes).collect()
+}
+
+/// Pair keys between every reduced node within one element of a term's slave and every one
+/// within one element of its face (the node graph of the element and spring pattern `keys`).
+fn widened_contact_keys(
+    keys: &[u64],
+    n: usize,
+    solver: &Solver,
+    dofs: &ReducedDofs,
+    terms: &[RankOneStiffness],
+) -> Vec<u64> {
+    let mut is_slave = vec![false; n];
+    let mut is_face = vec![false; n];
+    let mut buf = [(0u32, 0.0f64); 4];
+    for t in terms {
+        for j in 0..5 {
+            if t.coefficients[j] == 0.0 {
+                continue;
+            }
+            let k = dofs.expand(solver, t.nodes[j], &mut buf);
+            for &(r, _) in &buf[..k] {
+                if j == 0 {
+                    is_slave[r as usize] = true;
+                } else {
+                    is_face[r as usize] = true;
+                }
+            }
+        }
+    }
+    // One ring: a node joins a side when a pattern pair links it to a node of that side.
+    let (mut slaves, mut faces) = (is_slave.clone(), is_face.clone());
+    for &key in keys {
+        let (c, r) = ((key >> 32) as usize, (key & 0xffff_ffff) as usize);
+        for (a, b) in [(c, r), (r, c)] {
+            slaves[a] |= is_slave[b];
+            faces[a] |= is_face[b];
+        }
+    }
+    let slave_nodes: Vec<u32> = (0..n as u32).filter(|&r| slaves[r as usize]).collect();
+    let face_nodes: Vec<u32> = (0..n as u32).filter(|&r| faces[r as usize]).collect();
+    let mut out = Vec::with_capacity(slave_nodes.len() * face_nodes.len());
+    for &a in &slave_nodes {
+        for &b in &face_nodes {
+            out.push(pair_key(a, b));
+        }
+    }
+    out
 }
 
 /// Pair keys of the rank-one terms.
