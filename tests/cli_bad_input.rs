@@ -676,6 +676,19 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["--end-time-ms"],
         ),
         (
+            vec![
+                "simulate",
+                "--scenario",
+                &case,
+                "--preload",
+                "sideways",
+                "--out",
+                "o",
+            ],
+            2,
+            vec!["--preload"],
+        ),
+        (
             vec!["simulate", "--scenario", &case, "--resume", "--out", "o"],
             2,
             vec!["--resume", "checkpoint"],

@@ -274,6 +274,11 @@ fn bad_case_files_name_the_field() {
             "preload.max_steps",
         ),
         (
+            "\"max_steps\": 2500",
+            "\"method\": \"sideways\", \"max_steps\": 2500",
+            "preload.method",
+        ),
+        (
             "\"model_scenario\": \"ci-tiny.json\"",
             "\"model_scenario\": \"missing.json\"",
             "model_scenario",
