@@ -316,9 +316,20 @@ pub fn solve_static<A: AuxForces + ?Sized>(
                 .chunks(3)
                 .map(|d| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
                 .fold(0.0f64, f64::max);
+            let at = (0..n)
+                .max_by(|&a, &b| {
+                    let m = |r: usize| (0..3).map(|i| increment[3 * r + i].powi(2)).sum::<f64>();
+                    m(a).total_cmp(&m(b))
+                })
+                .unwrap_or(0);
             eprintln!(
-                "  step: largest node increment {largest:.3e} m; energy {step_energy:.3e} J, \
-                 of which the regularisation's {regularisation_energy:.3e} J"
+                "  step: largest node increment {largest:.3e} m at reduced node {at} (mesh node \
+                 {:?}, {:?}); energy {step_energy:.3e} J, of which the regularisation's \
+                 {regularisation_energy:.3e} J",
+                dofs.free_nodes
+                    .get(at)
+                    .map(|&nd| (nd, solver.model.mesh.nodes[nd])),
+                &increment[3 * at..3 * at + 3]
             );
         }
         if regularisation_energy > 0.5 * step_energy {
