@@ -250,6 +250,54 @@ fn bench_rolling_splits_a_step_and_refuses_bad_step_counts() {
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--steps"));
 }
 
+/// `squeal bench preload` times the static preload of a case by either method, without a
+/// rolling run: the implicit solve lands on the static load to its residual (measured +4e-7 on
+/// the tiny case; asserted 1e-4), and a method name it does not know exits 2.
+#[test]
+fn bench_preload_times_both_methods() {
+    let bench = |method: &str| {
+        squeal()
+            .args([
+                "bench",
+                "preload",
+                "--scenario",
+                "data/cases/case3-ci.json",
+                "--preload",
+                method,
+            ])
+            .output()
+            .expect("run")
+    };
+    for method in ["implicit", "dynamic-relaxation"] {
+        let out = bench(method);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        let value = |key: &str| -> f64 {
+            text.split_whitespace()
+                .find_map(|w| w.strip_prefix(&format!("{key}=")))
+                .unwrap_or_else(|| panic!("{key} missing in {text}"))
+                .parse()
+                .expect("number")
+        };
+        assert!(value("preload_seconds") > 0.0, "{text}");
+        assert_eq!(value("elements"), 9702.0, "{text}");
+        if method == "implicit" {
+            assert!(value("load_error").abs() < 1e-4, "{text}");
+            assert!(value("factor_entries") > 0.0, "{text}");
+        } else {
+            // The tiny case's relaxation budget (2 500 steps) is a smoke setting.
+            assert_eq!(value("iterations_or_steps"), 2500.0, "{text}");
+        }
+    }
+    let bad = bench("sideways");
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--preload"));
+}
+
 /// A run directory is never overwritten by mistake: a non-empty folder is refused (the old
 /// files untouched), `--overwrite` replaces it whole, `--resume` without a checkpoint is refused
 /// before anything is created; a report's name cannot leave the reports folder, and a failed

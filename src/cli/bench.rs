@@ -24,6 +24,42 @@ pub enum BenchWhat {
     /// One rolling step of a case split into element forces, contact and the rest, with the
     /// projected wall time of the case's time loop; ends with `ms_per_step=<value>`.
     Rolling(RollingBenchArgs),
+    /// The static preload of a rolling case (model built, preload timed, no rolling run);
+    /// ends with `preload_seconds=<value>`.
+    Preload(PreloadBenchArgs),
+}
+
+/// Arguments of `squeal bench preload`.
+#[derive(Args, Debug)]
+pub struct PreloadBenchArgs {
+    /// Rolling case file (e.g. data/cases/case3-demo.json).
+    #[arg(long)]
+    pub scenario: std::path::PathBuf,
+    /// The method (default: the case's `preload.method`).
+    #[arg(long, value_enum)]
+    pub preload: Option<super::simulate::PreloadChoice>,
+}
+
+fn preload(a: PreloadBenchArgs) -> Result<()> {
+    let loaded = squeal::rolling::load_case(&a.scenario)?;
+    let method = a
+        .preload
+        .map(super::simulate::PreloadChoice::method)
+        .unwrap_or(loaded.case.preload.method);
+    let p = squeal::rolling::bench::preload_profile(&loaded, method)?;
+    println!(
+        "elements={} method={:?} build_s={:.1} iterations_or_steps={} factor_entries={} \
+         relative_residual={:.2e} load_error={:+.2e}",
+        p.elements,
+        p.method,
+        p.build_s,
+        p.iterations_or_steps,
+        p.factor_entries,
+        p.relative_residual,
+        p.load_error
+    );
+    println!("preload_seconds={:.2}", p.preload_s);
+    Ok(())
 }
 
 /// Arguments of `squeal bench rolling`.
@@ -272,6 +308,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         BenchWhat::Modal(a) => modal(a),
         BenchWhat::Stability(a) => stability(a),
         BenchWhat::Rolling(a) => rolling(a),
+        BenchWhat::Preload(a) => preload(a),
         BenchWhat::Explicit(a) => {
             let r = squeal::explicit::bench::element_throughput(a.elements, a.threads, a.steps)?;
             println!(

@@ -78,6 +78,16 @@ pub enum PreloadChoice {
     DynamicRelaxation,
 }
 
+impl PreloadChoice {
+    /// The library's method.
+    pub fn method(self) -> PreloadMethod {
+        match self {
+            PreloadChoice::Implicit => PreloadMethod::Implicit,
+            PreloadChoice::DynamicRelaxation => PreloadMethod::DynamicRelaxation,
+        }
+    }
+}
+
 /// A stop flag set by Ctrl-C, SIGTERM or SIGHUP: the first signal asks the run to stop at the
 /// next step (it then writes a checkpoint and `status.json`, so `--resume` goes on), a second
 /// one exits at once. Without a handler (it cannot be installed twice) the flag is never set.
@@ -148,10 +158,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             stop: stop.clone(),
             verify_contact_region: false,
             multi_rate_levels: args.multi_rate.then_some(MULTI_RATE_LEVELS),
-            preload_method: args.preload.map(|p| match p {
-                PreloadChoice::Implicit => PreloadMethod::Implicit,
-                PreloadChoice::DynamicRelaxation => PreloadMethod::DynamicRelaxation,
-            }),
+            preload_method: args.preload.map(PreloadChoice::method),
         };
         println!(
             "case {} ({}) -> {}",

@@ -3,6 +3,8 @@
 //! forces, the contact forces and whole steps timed apart; the rest of a step (integration,
 //! rigid body, springs, ties) is the difference. The projection multiplies the whole step by
 //! the case's number of steps: the time loop's wall time without output or preload.
+//!
+//! [`preload_profile`] times the static preload alone, by either method.
 
 use std::time::Instant;
 
@@ -188,5 +190,63 @@ pub fn step_profile(
         element_work_fraction_free_contact: free_contact.element_work_fraction,
         multi_rate: multi_rate_levels.is_some(),
         level_ns_per_element_step,
+    })
+}
+
+/// The figures of one static preload.
+#[derive(Clone, Debug, Serialize)]
+pub struct PreloadProfile {
+    /// Elements of the model.
+    pub elements: usize,
+    /// The method used.
+    pub method: crate::model::case::PreloadMethod,
+    /// Building the model (s).
+    pub build_s: f64,
+    /// The preload (s).
+    pub preload_s: f64,
+    /// Newton iterations (implicit) or steps (relaxation).
+    pub iterations_or_steps: u64,
+    /// Entries of the Cholesky factor (implicit; 0 for relaxation).
+    pub factor_entries: usize,
+    /// Final relative residual.
+    pub relative_residual: f64,
+    /// `(F_z - W) / W` after the preload.
+    pub load_error: f64,
+}
+
+/// Builds the case's model and times its static preload by `method` (no rolling run).
+pub fn preload_profile(
+    loaded: &LoadedCase,
+    method: crate::model::case::PreloadMethod,
+) -> Result<PreloadProfile> {
+    use crate::model::case::PreloadMethod;
+    let t0 = Instant::now();
+    let mut m = build(loaded)?;
+    let build_s = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let friction = m.contact.pair.suspend_friction();
+    let stop = super::StopFlag::new();
+    let outcome = match method {
+        PreloadMethod::Implicit => {
+            super::preload::implicit_preload(&mut m, &loaded.case.preload, &stop)
+                .map(|r| (r.iterations as u64, r.factor_entries, r.relative_residual))
+        }
+        PreloadMethod::DynamicRelaxation => {
+            let opts = super::SimulateOptions::new(std::env::temp_dir());
+            super::relaxation_preload(&mut m, &loaded.case, &opts)
+                .map(|r| (r.steps, 0, r.relative_residual))
+        }
+    };
+    m.contact.pair.resume_friction(friction);
+    let (iterations_or_steps, factor_entries, relative_residual) = outcome?;
+    Ok(PreloadProfile {
+        elements: m.info.elements,
+        method,
+        build_s,
+        preload_s: t1.elapsed().as_secs_f64(),
+        iterations_or_steps,
+        factor_entries,
+        relative_residual,
+        load_error: m.info.preload_load_error,
     })
 }
