@@ -201,6 +201,15 @@ fn bad_lateral_motion_and_forward_guide_exit_2_and_write_nothing() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The number after `key=` in a bench's output.
+fn key_value(text: &str, key: &str) -> f64 {
+    text.split_whitespace()
+        .find_map(|w| w.strip_prefix(&format!("{key}=")))
+        .unwrap_or_else(|| panic!("{key} missing in {text}"))
+        .parse()
+        .expect("number")
+}
+
 #[test]
 fn bench_rolling_splits_a_step_and_refuses_bad_step_counts() {
     let bench = |steps: &str| {
@@ -223,13 +232,7 @@ fn bench_rolling_splits_a_step_and_refuses_bad_step_counts() {
         String::from_utf8_lossy(&out.stderr)
     );
     let text = String::from_utf8_lossy(&out.stdout).to_string();
-    let value = |key: &str| -> f64 {
-        text.split_whitespace()
-            .find_map(|w| w.strip_prefix(&format!("{key}=")))
-            .unwrap_or_else(|| panic!("{key} missing in {text}"))
-            .parse()
-            .expect("number")
-    };
+    let value = |key: &str| key_value(&text, key);
     // Parts are timed apart, so only their signs and the share's range are certain.
     let (step, elements, contact) = (
         value("ms_per_step"),
@@ -276,13 +279,7 @@ fn bench_preload_times_both_methods() {
             String::from_utf8_lossy(&out.stderr)
         );
         let text = String::from_utf8_lossy(&out.stdout).to_string();
-        let value = |key: &str| -> f64 {
-            text.split_whitespace()
-                .find_map(|w| w.strip_prefix(&format!("{key}=")))
-                .unwrap_or_else(|| panic!("{key} missing in {text}"))
-                .parse()
-                .expect("number")
-        };
+        let value = |key: &str| key_value(&text, key);
         assert!(value("preload_seconds") > 0.0, "{text}");
         assert_eq!(value("elements"), 9702.0, "{text}");
         if method == "implicit" {

@@ -449,17 +449,7 @@ fn bad_input_is_reported_with_the_field() {
 #[test]
 fn tied_blocks_carry_gravity_like_one_body() {
     // The fine block is the "block" of the shared scene, the coarse one its "plate".
-    let (mut mesh, slaves, faces, offset) = common::block_on_plate(
-        [2, 2, 1],
-        [0.1, 0.1, 0.05],
-        [5, 5, 2],
-        [0.1, 0.1, 0.02],
-        [0.0, 0.0],
-        1,
-    );
-    let tie = squeal::mesh::tie::build("block_tie", &mesh.nodes, &slaves, &faces);
-    assert_eq!(tie.pairs.len(), slaves.len());
-    mesh.ties.push(tie);
+    let (mesh, slaves, offset) = common::tied_block_on_plate([5, 5, 2]);
     let mut m = model(mesh, Formulation::default());
     m.gravity_m_per_s2 = [0.0, 0.0, -9.81];
     let base: Vec<usize> = m

@@ -158,16 +158,7 @@ fn cantilever_matches_beam_theory_and_dynamic_relaxation() {
 #[test]
 fn ties_rigid_bodies_and_point_masses_match_dynamic_relaxation() {
     let build = || {
-        let (mut mesh, slaves, faces, offset) = common::block_on_plate(
-            [2, 2, 1],
-            [0.1, 0.1, 0.05],
-            [4, 4, 2],
-            [0.1, 0.1, 0.02],
-            [0.0, 0.0],
-            1,
-        );
-        let tie = squeal::mesh::tie::build("block_tie", &mesh.nodes, &slaves, &faces);
-        mesh.ties.push(tie);
+        let (mut mesh, _, offset) = common::tied_block_on_plate([4, 4, 2]);
         let top_z = mesh.nodes[offset..]
             .iter()
             .map(|p| p[2])

@@ -37,3 +37,22 @@ pub fn block_on_plate(
         .collect();
     (mesh, block_bottom, faces, offset)
 }
+
+/// The plate-and-block scene of [`block_on_plate`] (plate 2 x 2 x 1 over 0.1 x 0.1 x 0.05 m,
+/// block `block_divisions` over 0.1 x 0.1 x 0.02 m covering it) with the block tied to the
+/// plate, its bottom nodes the slaves. Returns the mesh, the slaves and the block's first node.
+#[allow(dead_code)] // used by the engine's test files, not by every file that includes this one
+pub fn tied_block_on_plate(block_divisions: [usize; 3]) -> (Mesh, Vec<usize>, usize) {
+    let (mut mesh, slaves, faces, offset) = block_on_plate(
+        [2, 2, 1],
+        [0.1, 0.1, 0.05],
+        block_divisions,
+        [0.1, 0.1, 0.02],
+        [0.0, 0.0],
+        1,
+    );
+    let tie = squeal::mesh::tie::build("block_tie", &mesh.nodes, &slaves, &faces);
+    assert_eq!(tie.pairs.len(), slaves.len());
+    mesh.ties.push(tie);
+    (mesh, slaves, offset)
+}
