@@ -201,6 +201,16 @@ fn bad_lateral_motion_and_forward_guide_exit_2_and_write_nothing() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The standard output of a command that must have succeeded (its error output otherwise).
+fn success_stdout(out: std::process::Output) -> String {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).to_string()
+}
+
 /// The number after `key=` in a bench's output.
 fn key_value(text: &str, key: &str) -> f64 {
     text.split_whitespace()
@@ -225,13 +235,7 @@ fn bench_rolling_splits_a_step_and_refuses_bad_step_counts() {
             .output()
             .expect("run")
     };
-    let out = bench("5");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    let text = success_stdout(bench("5"));
     let value = |key: &str| key_value(&text, key);
     // Parts are timed apart, so only their signs and the share's range are certain.
     let (step, elements, contact) = (
@@ -272,13 +276,7 @@ fn bench_preload_times_both_methods() {
             .expect("run")
     };
     for method in ["implicit", "dynamic-relaxation"] {
-        let out = bench(method);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        let text = success_stdout(bench(method));
         let value = |key: &str| key_value(&text, key);
         assert!(value("preload_seconds") > 0.0, "{text}");
         assert_eq!(value("elements"), 9702.0, "{text}");

@@ -449,15 +449,9 @@ fn bad_input_is_reported_with_the_field() {
 #[test]
 fn tied_blocks_carry_gravity_like_one_body() {
     // The fine block is the "block" of the shared scene, the coarse one its "plate".
-    let (mesh, slaves, offset) = common::tied_block_on_plate([5, 5, 2]);
+    let (mesh, slaves, _, base) = common::tied_block_on_plate([5, 5, 2]);
     let mut m = model(mesh, Formulation::default());
     m.gravity_m_per_s2 = [0.0, 0.0, -9.81];
-    let base: Vec<usize> = m
-        .node_set("z0")
-        .unwrap()
-        .into_iter()
-        .filter(|&n| n < offset)
-        .collect();
     m.fix_nodes(&base, [true, true, true]);
     let weight = m.total_mass_kg() * 9.81;
     let mut s = Solver::new(m, None).unwrap();

@@ -158,7 +158,7 @@ fn cantilever_matches_beam_theory_and_dynamic_relaxation() {
 #[test]
 fn ties_rigid_bodies_and_point_masses_match_dynamic_relaxation() {
     let build = || {
-        let (mut mesh, _, offset) = common::tied_block_on_plate([4, 4, 2]);
+        let (mut mesh, _, offset, base) = common::tied_block_on_plate([4, 4, 2]);
         let top_z = mesh.nodes[offset..]
             .iter()
             .map(|p| p[2])
@@ -178,12 +178,6 @@ fn ties_rigid_bodies_and_point_masses_match_dynamic_relaxation() {
             .unwrap();
         let mut m = model(mesh);
         m.gravity_m_per_s2 = [0.0, 0.0, -9.81];
-        let base: Vec<usize> = m
-            .node_set("z0")
-            .unwrap()
-            .into_iter()
-            .filter(|&n| n < offset)
-            .collect();
         m.fix_nodes(&base, [true, true, true]);
         m.add_rigid_body("block_top").unwrap();
         let hanging = m

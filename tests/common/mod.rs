@@ -40,9 +40,10 @@ pub fn block_on_plate(
 
 /// The plate-and-block scene of [`block_on_plate`] (plate 2 x 2 x 1 over 0.1 x 0.1 x 0.05 m,
 /// block `block_divisions` over 0.1 x 0.1 x 0.02 m covering it) with the block tied to the
-/// plate, its bottom nodes the slaves. Returns the mesh, the slaves and the block's first node.
+/// plate, its bottom nodes the slaves. Returns the mesh, the slaves, the block's first node and
+/// the plate's bottom nodes (the support).
 #[allow(dead_code)] // used by the engine's test files, not by every file that includes this one
-pub fn tied_block_on_plate(block_divisions: [usize; 3]) -> (Mesh, Vec<usize>, usize) {
+pub fn tied_block_on_plate(block_divisions: [usize; 3]) -> (Mesh, Vec<usize>, usize, Vec<usize>) {
     let (mut mesh, slaves, faces, offset) = block_on_plate(
         [2, 2, 1],
         [0.1, 0.1, 0.05],
@@ -54,5 +55,10 @@ pub fn tied_block_on_plate(block_divisions: [usize; 3]) -> (Mesh, Vec<usize>, us
     let tie = squeal::mesh::tie::build("block_tie", &mesh.nodes, &slaves, &faces);
     assert_eq!(tie.pairs.len(), slaves.len());
     mesh.ties.push(tie);
-    (mesh, slaves, offset)
+    let base: Vec<usize> = mesh.node_sets["z0"]
+        .iter()
+        .copied()
+        .filter(|&n| n < offset)
+        .collect();
+    (mesh, slaves, offset, base)
 }
