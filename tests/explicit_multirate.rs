@@ -170,6 +170,49 @@ fn a_pulse_crosses_the_level_interface_with_under_one_percent_reflected() {
     assert!((multi.2 - single.2).abs() < 0.01);
 }
 
+/// Where the energy sits, level by level (`Solver::level_energies`, the columns of a multi-rate
+/// run's energy.csv): at every report the levels add up to the report's kinetic and
+/// strain + hourglass energies (to rounding: 1e-12 of the total), and they follow the pulse:
+/// before the crossing nearly all of its energy is at the finest level, after it at the coarse
+/// levels (the fine part keeps only what is reflected, under 1 %).
+#[test]
+fn energy_by_level_adds_up_and_follows_the_pulse() {
+    let mut s = solver(true);
+    assert!(solver(false).level_energies().is_none());
+    launch(&mut s, INTERFACE_M - 0.15);
+    let cycle = s.multi_rate().map_or(1, |m| m.full_cycle_steps());
+    let steps = (0.45 / bar_speed() / s.dt_s).round() as u64;
+    let steps = steps.div_ceil(cycle) * cycle;
+    let mut shares = Vec::new();
+    for k in 0..=steps {
+        let report = k % cycle == 0 && (k == cycle || k == steps);
+        s.step_with(&mut NoAux, false, report).unwrap();
+        if !report {
+            continue;
+        }
+        let e = s.last_energy().unwrap();
+        let levels = s.level_energies().unwrap();
+        let kinetic: f64 = levels.iter().map(|l| l.kinetic_j).sum();
+        let internal: f64 = levels.iter().map(|l| l.internal_j).sum();
+        let total = e.kinetic_j + e.strain_j + e.hourglass_j;
+        println!(
+            "step {k}: kinetic {:.6e} J (levels {kinetic:.6e}), internal {:.6e} J (levels \
+             {internal:.6e}); by level {:?}",
+            e.kinetic_j,
+            e.strain_j + e.hourglass_j,
+            levels
+                .iter()
+                .map(|l| (l.kinetic_j + l.internal_j) / total)
+                .collect::<Vec<_>>()
+        );
+        assert!((kinetic - e.kinetic_j).abs() < 1e-12 * total);
+        assert!((internal - e.strain_j - e.hourglass_j).abs() < 1e-12 * total);
+        shares.push((levels[0].kinetic_j + levels[0].internal_j) / total);
+    }
+    assert!(shares[0] > 0.99, "{shares:?}");
+    assert!(*shares.last().unwrap() < 0.01, "{shares:?}");
+}
+
 /// Worst energy-balance ratio over `steps` steps of `s`, reported every 1000 steps (where
 /// every level updates).
 fn worst_balance(mut s: Solver, steps: u64) -> f64 {

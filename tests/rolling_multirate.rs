@@ -58,6 +58,11 @@ fn single_and_multi_rate(
 #[test]
 fn tiny_case_multi_rate_against_single_rate() {
     let (root, tables) = single_and_multi_rate("data/cases/case3-ci.json", "tiny");
+    // A multi-rate run's energy.csv says where the energy sits, level by level.
+    let energy = Table::read(&root.join("multi").join("energy.csv")).unwrap();
+    assert!(energy.headers.iter().any(|h| h == "kinetic_level0_j"));
+    let single_energy = Table::read(&root.join("single").join("energy.csv")).unwrap();
+    assert!(!single_energy.headers.iter().any(|h| h.contains("level")));
     // The tiny model's tread band and rail zone are fine, its wheel body and far rail coarse:
     // several levels.
     assert!(tables[1].2 >= 3);

@@ -234,11 +234,14 @@ pub fn run<A: AuxForces + ?Sized>(
             header.push_str(&c);
         }
         writeln!(hist, "{header}").map_err(io(&hist_path))?;
-        writeln!(
-            energy_csv,
-            "time_s,kinetic_j,strain_j,hourglass_j,spring_j,damping_j,contact_j,external_work_j,balance_error_j,balance_ratio,min_det_f"
-        )
-        .map_err(io(&energy_path))?;
+        let mut energy_header = String::from(
+            "time_s,kinetic_j,strain_j,hourglass_j,spring_j,damping_j,contact_j,external_work_j,balance_error_j,balance_ratio,min_det_f",
+        );
+        // Multi-rate runs: where the energy sits, level by level (multirate.rs).
+        for k in 0..solver.multi_rate().map_or(0, |m| m.levels()) {
+            energy_header.push_str(&format!(",kinetic_level{k}_j,internal_level{k}_j"));
+        }
+        writeln!(energy_csv, "{energy_header}").map_err(io(&energy_path))?;
     }
     let total_steps = ((opts.end_time_s - solver.time_s) / solver.dt_s)
         .round()
@@ -302,7 +305,7 @@ pub fn run<A: AuxForces + ?Sized>(
         if energy {
             if let Some(e) = solver.last_energy() {
                 max_ratio = max_ratio.max(e.balance_ratio);
-                writeln!(
+                write!(
                     energy_csv,
                     "{},{},{},{},{},{},{},{},{},{},{}",
                     e.time_s,
@@ -318,6 +321,11 @@ pub fn run<A: AuxForces + ?Sized>(
                     e.min_det_f
                 )
                 .map_err(io(&energy_path))?;
+                for level in solver.level_energies().unwrap_or_default() {
+                    write!(energy_csv, ",{},{}", level.kinetic_j, level.internal_j)
+                        .map_err(io(&energy_path))?;
+                }
+                writeln!(energy_csv).map_err(io(&energy_path))?;
                 if let Err(err) = solver.check_state(&e, opts.balance_threshold) {
                     failure = Some(err);
                     break;
