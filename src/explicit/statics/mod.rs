@@ -274,7 +274,10 @@ pub fn solve_static<A: AuxForces + ?Sized>(
                     report.symbolic_analyses += 1;
                     let symbolic = symbolic_pencil(&a)?;
                     report.symbolic_seconds += ts.elapsed().as_secs_f64();
-                    check_factor_memory(&symbolic, opts.memory_limit_bytes)?;
+                    // The matrix is copied once more into the factorisation's input.
+                    let matrix_bytes =
+                        a.val().len() * (std::mem::size_of::<f64>() + std::mem::size_of::<usize>());
+                    check_factor_memory(&symbolic, matrix_bytes, opts.memory_limit_bytes)?;
                     symbolic
                 }
             };
@@ -386,13 +389,18 @@ fn check_options(opts: &StaticOptions) -> Result<()> {
     Ok(())
 }
 
-/// Refuses a factorisation that would not fit: its values and the numeric phase's work space
-/// against `limit` (or the system's available memory), before anything is allocated.
-fn check_factor_memory(symbolic: &SymbolicCholesky<usize>, limit: Option<u64>) -> Result<()> {
+/// Refuses a factorisation that would not fit: its values, the numeric phase's work space and
+/// `extra_bytes` (copies of the matrix) against `limit` (or the system's available memory),
+/// before anything is allocated.
+fn check_factor_memory(
+    symbolic: &SymbolicCholesky<usize>,
+    extra_bytes: usize,
+    limit: Option<u64>,
+) -> Result<()> {
     let scratch = symbolic
         .factorize_numeric_llt_scratch::<f64>(Par::rayon(0), Default::default())
         .size_bytes();
-    let need = (symbolic.len_val() * std::mem::size_of::<f64>() + scratch) as u64;
+    let need = (symbolic.len_val() * std::mem::size_of::<f64>() + scratch + extra_bytes) as u64;
     let Some(available) = limit.or_else(available_memory_bytes) else {
         return Ok(());
     };
