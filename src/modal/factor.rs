@@ -61,7 +61,7 @@ impl ShiftInvert<'_> {
 pub(crate) fn symbolic_pencil(a: &SparseColMat<usize, f64>) -> Result<SymbolicCholesky<usize>> {
     let analyse = |ordering: SymmetricOrdering<'_, usize>| {
         factorize_symbolic_cholesky(a.symbolic(), Side::Lower, ordering, Default::default())
-            .map_err(|e| Error::Numerical(format!("symbolic Cholesky of K - s M failed: {e:?}")))
+            .map_err(|e| Error::Numerical(format!("symbolic Cholesky analysis failed: {e:?}")))
     };
     let (amd, dissection) = rayon::join(
         || analyse(SymmetricOrdering::Amd),

@@ -233,7 +233,7 @@ pub fn preload_profile(
         }
         PreloadMethod::DynamicRelaxation => {
             let opts = super::SimulateOptions::new(std::env::temp_dir());
-            super::relaxation_preload(&mut m, &loaded.case, &opts)
+            super::preload::relaxation_preload(&mut m, &loaded.case, &opts)
                 .map(|r| (r.steps, 0, r.relative_residual))
         }
     };

@@ -40,7 +40,7 @@ use crate::model::case::PreloadMethod;
 use crate::{Error, Result};
 use drive::{hold_forward_speed, loaded_centre_and_radius, prescribe_creepage};
 use instruments::ContactPointRecord;
-use preload::{implicit_preload, staged_preload};
+use preload::{implicit_preload, relaxation_preload};
 
 pub use crate::explicit::run::StopFlag;
 pub use crate::model::case::{embedded_default_case, load_case, LoadedCase, RollingCase};
@@ -322,33 +322,6 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         serde_json::to_string_pretty(&record).map_err(|e| Error::Numerical(e.to_string()))?;
     std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
     Ok(record)
-}
-
-/// The static preload by dynamic relaxation, with the preload's inertia scaling.
-fn relaxation_preload(
-    m: &mut RollingModel,
-    case: &RollingCase,
-    opts: &SimulateOptions,
-) -> Result<PreloadReport> {
-    if let Some(dt) = case.preload.time_step_s {
-        m.solver.set_inertia_scaling(&m.preload_added_mass_kg, dt)?;
-    }
-    let report = staged_preload(m, &case.preload, &opts.stop);
-    m.solver.clear_inertia_scaling();
-    let report = report?;
-    if opts.progress {
-        eprintln!(
-            "preload: {} steps, relative residual {:.2e}{}",
-            report.steps,
-            report.relative_residual,
-            if report.converged {
-                ""
-            } else {
-                " (step limit reached; run continues)"
-            }
-        );
-    }
-    Ok(report)
 }
 
 /// Wheel centre (mean of the hub bore nodes) displacement and velocity, x / y / z.

@@ -148,7 +148,7 @@ impl ReducedDofs {
             }
             out[3 * (free + b)..3 * (free + b) + 3].copy_from_slice(&f);
         }
-        (fi2.sqrt()) + fe2.sqrt()
+        fi2.sqrt() + fe2.sqrt()
     }
 
     /// Moves the model by the reduced increment `dq` (3 per reduced node): free nodes, rigid

@@ -124,12 +124,6 @@ pub struct StaticReport {
     pub symbolic_seconds: f64,
 }
 
-/// The element and spring part of the tangent, kept between iterations.
-struct BaseTangent {
-    /// Sorted, deduplicated pair keys of elements and springs.
-    keys: Vec<u64>,
-}
-
 /// The factorisation in use.
 struct Factor {
     symbolic: SymbolicCholesky<usize>,
@@ -157,11 +151,12 @@ pub fn solve_static<A: AuxForces + ?Sized>(
     solver.zero_rigid_velocities();
     let dofs = ReducedDofs::new(solver, &opts.held_rigid_translations)?;
     let n = dofs.len();
-    let base = BaseTangent {
-        keys: base_keys(solver, &dofs),
-    };
+    // The element and spring pattern, kept between iterations.
+    let element_keys = base_keys(solver, &dofs);
     let (t0, dt) = (solver.time_s, solver.dt_s);
     let mut residual = vec![0.0; 3 * n];
+    // The residual with held directions zeroed: the right-hand side of every solve.
+    let mut rhs = vec![0.0; 3 * n];
     let mut increment = vec![0.0; 3 * n];
     let mut terms: Vec<RankOneStiffness> = Vec::new();
     let mut tangent: Option<Tangent> = None;
@@ -188,13 +183,14 @@ pub fn solve_static<A: AuxForces + ?Sized>(
     loop {
         solver.gather_forces(aux, t0, dt);
         let reference = dofs.residual(solver, &mut residual);
-        let free_norm = residual
-            .iter()
+        for ((b, r), h) in rhs
+            .iter_mut()
+            .zip(&residual)
             .zip(dofs.held.iter().flatten())
-            .filter(|(_, h)| !**h)
-            .map(|(r, _)| r * r)
-            .sum::<f64>()
-            .sqrt();
+        {
+            *b = if *h { 0.0 } else { *r };
+        }
+        let free_norm = rhs.iter().map(|r| r * r).sum::<f64>().sqrt();
         if !free_norm.is_finite() {
             return Err(Error::Numerical(format!(
                 "static solve diverged after {} iterations (non-finite residual)",
@@ -247,13 +243,19 @@ pub fn solve_static<A: AuxForces + ?Sized>(
                 Some(tg) => contact_keys.iter().any(|&k| !tg.contains(k)),
             };
             if rebuild {
-                let mut keys = base.keys.clone();
+                let mut keys = element_keys.clone();
                 keys.extend_from_slice(&contact_keys);
                 if !terms.is_empty() {
                     // Room for the active set to grow by a ring of nodes without a new
                     // symbolic analysis: a slave next to a contact slave meets a face next to
                     // the contact faces.
-                    keys.extend(widened_contact_keys(&base.keys, n, solver, &dofs, &terms));
+                    keys.extend(widened_contact_keys(
+                        &element_keys,
+                        n,
+                        solver,
+                        &dofs,
+                        &terms,
+                    ));
                 }
                 keys.par_sort_unstable();
                 keys.dedup();
@@ -295,12 +297,7 @@ pub fn solve_static<A: AuxForces + ?Sized>(
         let Some(f) = factor.as_ref() else {
             unreachable!("a factor was made above")
         };
-        increment.copy_from_slice(&residual);
-        for (r, h) in increment.iter_mut().zip(dofs.held.iter().flatten()) {
-            if *h {
-                *r = 0.0;
-            }
-        }
+        increment.copy_from_slice(&rhs);
         solve(f, &mut increment);
         // A step the regularisation carries (a body with nothing under it yet) is as long as
         // `g / omega_r^2`: cap it. It is recognised by its energy: `dqᵀ M omega_r^2 dq` over
@@ -311,20 +308,20 @@ pub fn solve_static<A: AuxForces + ?Sized>(
             for i in 0..3 {
                 let d = increment[3 * r + i];
                 regularisation_energy += dofs.mass_kg[r] * omega_r2 * d * d;
-                step_energy += d * residual_held_zero(&dofs, &residual, r, i);
+                step_energy += d * rhs[3 * r + i];
             }
         }
         if opts.trace {
-            let largest = increment
-                .chunks(3)
-                .map(|d| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
-                .fold(0.0f64, f64::max);
+            let length = |r: usize| {
+                (0..3)
+                    .map(|i| increment[3 * r + i].powi(2))
+                    .sum::<f64>()
+                    .sqrt()
+            };
             let at = (0..n)
-                .max_by(|&a, &b| {
-                    let m = |r: usize| (0..3).map(|i| increment[3 * r + i].powi(2)).sum::<f64>();
-                    m(a).total_cmp(&m(b))
-                })
+                .max_by(|&a, &b| length(a).total_cmp(&length(b)))
                 .unwrap_or(0);
+            let largest = length(at);
             eprintln!(
                 "  step: largest node increment {largest:.3e} m at reduced node {at} (mesh node \
                  {:?}, {:?}); energy {step_energy:.3e} J, of which the regularisation's \
@@ -365,13 +362,22 @@ pub fn solve_static<A: AuxForces + ?Sized>(
 
 fn check_options(opts: &StaticOptions) -> Result<()> {
     let checks = [
-        ("tolerance", opts.tolerance, "(0, 1)"),
-        ("max_increment_m", opts.max_increment_m, "> 0"),
-        ("regularisation_hz", opts.regularisation_hz, "> 0"),
+        ("tolerance", opts.tolerance, 1.0, "(0, 1)"),
+        (
+            "max_increment_m",
+            opts.max_increment_m,
+            f64::INFINITY,
+            "> 0",
+        ),
+        (
+            "regularisation_hz",
+            opts.regularisation_hz,
+            f64::INFINITY,
+            "> 0",
+        ),
     ];
-    for (field, value, range) in checks {
-        let ok = value > 0.0 && value.is_finite() && (field != "tolerance" || value < 1.0);
-        if !ok {
+    for (field, value, upper, range) in checks {
+        if !(value > 0.0 && value < upper) {
             return Err(Error::input(
                 "static solve",
                 field,
@@ -424,15 +430,6 @@ fn available_memory_bytes() -> Option<u64> {
     let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kb * 1024)
-}
-
-/// The residual of reduced node `r`, direction `i`, zero where held.
-fn residual_held_zero(dofs: &ReducedDofs, residual: &[f64], r: usize, i: usize) -> f64 {
-    if dofs.held[r][i] {
-        0.0
-    } else {
-        residual[3 * r + i]
-    }
 }
 
 /// `x <- K_T⁻¹ x` with the factor.

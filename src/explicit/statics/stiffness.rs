@@ -79,15 +79,12 @@ impl Tangent {
             .is_ok()
     }
 
-    /// Adds `block` to the node block `(row r, column c)`: the upper block of the pair when
-    /// `r < c` is the transpose of the lower one, and a diagonal block adds its lower triangle.
-    /// Entries in held directions are skipped.
+    /// Adds `block` (row direction, column direction) to the lower node block `(row r, column
+    /// c)`, `r >= c`; a diagonal block adds its lower triangle. Entries in held directions are
+    /// skipped.
     pub(super) fn add(&mut self, dofs: &ReducedDofs, r: u32, c: u32, block: &Block) {
-        let (r, c, transpose) = if r >= c {
-            (r as usize, c as usize, false)
-        } else {
-            (c as usize, r as usize, true)
-        };
+        debug_assert!(r >= c, "the tangent stores lower blocks");
+        let (r, c) = (r as usize, c as usize);
         let rows = &self.block_rows[self.block_ptr[c]..self.block_ptr[c + 1]];
         let Ok(p) = rows.binary_search(&(r as u32)) else {
             // The pattern was built from the same pairs: a missing block is a bug.
@@ -108,8 +105,7 @@ impl Tangent {
                 } else {
                     (3 - i) + 3 * (p - 1) + k
                 };
-                let v = if transpose { block[i][k] } else { block[k][i] };
-                self.values[start + offset] += v;
+                self.values[start + offset] += block[k][i];
             }
         }
     }
