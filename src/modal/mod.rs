@@ -53,6 +53,7 @@ pub mod mode;
 pub mod ordering;
 pub mod pipeline;
 pub mod residual;
+mod separator;
 pub mod slice;
 pub mod solution;
 
