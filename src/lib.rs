@@ -21,6 +21,7 @@ pub mod modal;
 pub mod model;
 pub mod output;
 pub mod pipeline;
+pub mod random;
 pub mod report;
 pub mod rolling;
 pub mod scenario;

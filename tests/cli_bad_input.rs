@@ -708,6 +708,11 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             2,
             vec!["slices"],
         ),
+        (
+            vec!["bench", "modal", "--mtx", &missing, "--shift-hz", "20000"],
+            2,
+            vec!["--shift-hz", "(0, fmax = 10000] Hz"],
+        ),
     ];
     assert!(rows.len() >= 60, "{} rows", rows.len());
     let mut failures = Vec::new();

@@ -10,19 +10,7 @@ use std::path::{Path, PathBuf};
 /// Mutations per file.
 const MUTATIONS: usize = 300;
 
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
+use squeal::random::XorShift64 as Rng;
 
 /// One random edit of `bytes`.
 fn mutate(bytes: &[u8], rng: &mut Rng) -> Vec<u8> {
@@ -33,7 +21,7 @@ fn mutate(bytes: &[u8], rng: &mut Rng) -> Vec<u8> {
             // A byte set to anything.
             let k = rng.below(n);
             if k < out.len() {
-                out[k] = rng.next() as u8;
+                out[k] = rng.next_u64() as u8;
             }
         }
         1 => {

@@ -213,6 +213,10 @@ pub struct ModalBenchArgs {
     /// Slices of the band, one shift each (spectrum slicing), 1 to 32.
     #[arg(long, default_value_t = 1)]
     pub slices: usize,
+    /// Shift of the first slice below the spectrum, sigma = -(2 pi shift)², in (0, fmax] Hz
+    /// [default: the larger of fmax / 20 and 10 Hz].
+    #[arg(long)]
+    pub shift_hz: Option<f64>,
 }
 
 fn modal(a: ModalBenchArgs) -> Result<()> {
@@ -233,6 +237,18 @@ fn modal(a: ModalBenchArgs) -> Result<()> {
         ));
     }
     squeal::modal::lanczos::check_slices(a.slices)?;
+    if let Some(shift) = a.shift_hz {
+        if !(shift.is_finite() && shift > 0.0 && shift <= a.fmax) {
+            return Err(squeal::Error::input(
+                "command line",
+                "--shift-hz",
+                format!(
+                    "{shift} is outside the allowed range (0, fmax = {}] Hz",
+                    a.fmax
+                ),
+            ));
+        }
+    }
     let started = std::time::Instant::now();
     let k = read_matrix_market(&a.mtx.join("K.mtx"))?;
     let m = read_matrix_market(&a.mtx.join("M.mtx"))?;
@@ -259,6 +275,7 @@ fn modal(a: ModalBenchArgs) -> Result<()> {
             rigid_below_hz: 1.0,
             block_size: a.block_size,
             slices: a.slices,
+            shift_hz: a.shift_hz,
             ..Default::default()
         },
     )?;

@@ -48,9 +48,12 @@ pub fn solve(
         return solve_dense(k, m, opts, sigma, lambda_max, started);
     }
 
-    let a = shifted(k, m, sigma)?;
+    // The first slice's matrix; taken (and freed) by its factorisation, before the Lanczos
+    // basis grows.
+    let first = shifted(k, m, sigma)?;
     // One symbolic analysis for every shift and Sturm count: `K - s M` has the same pattern.
-    let symbolic = symbolic_pencil(&a)?;
+    let symbolic = symbolic_pencil(&first)?;
+    let mut a = Some(first);
     if trace {
         eprintln!(
             "trace: symbolic at {:.2} s, factor entries {}",
@@ -116,33 +119,32 @@ pub fn solve(
             }
         };
         let t0 = Instant::now();
-        let a_slice = if s == 0 {
-            None
-        } else {
-            Some(shifted(k, m, slice.sigma)?)
+        // The first slice's matrix is already built (an empty first slice leaves it unused).
+        let a_slice = match (s, a.take()) {
+            (0, Some(first)) => first,
+            _ => shifted(k, m, slice.sigma)?,
         };
         let kind = if s == 0 {
             FactorKind::Llt
         } else {
             FactorKind::Ldlt
         };
-        let l_values =
-            numeric_factor(a_slice.as_ref().unwrap_or(&a), &symbolic, kind).map_err(|e| {
-                if s == 0 {
-                    Error::Numerical(format!(
-                        "Cholesky of K - sigma M (sigma = {sigma:.6e}) failed ({e}): K is not \
+        let l_values = numeric_factor(&a_slice, &symbolic, kind).map_err(|e| {
+            if s == 0 {
+                Error::Numerical(format!(
+                    "Cholesky of K - sigma M (sigma = {sigma:.6e}) failed ({e}): K is not \
                          positive semi-definite or M not positive definite (inverted elements? \
                          negative density?)"
-                    ))
-                } else {
-                    Error::Numerical(format!(
-                        "LDLᵀ of K - sigma M at the shift of slice {} ({:.1} Hz) failed ({e}): \
+                ))
+            } else {
+                Error::Numerical(format!(
+                    "LDLᵀ of K - sigma M at the shift of slice {} ({:.1} Hz) failed ({e}): \
                          the shift lies on an eigenvalue; change --slices",
-                        s + 1,
-                        slice.sigma.sqrt() / (2.0 * PI)
-                    ))
-                }
-            })?;
+                    s + 1,
+                    slice.sigma.sqrt() / (2.0 * PI)
+                ))
+            }
+        })?;
         drop(a_slice);
         factor_seconds += t0.elapsed().as_secs_f64();
         let op = ShiftInvert {
@@ -154,7 +156,7 @@ pub fn solve(
         let res = solve_slice(
             k,
             m,
-            &op,
+            op,
             &slice,
             count,
             opts,
@@ -193,7 +195,6 @@ pub fn solve(
         blocks += res.blocks;
         modes.extend(res.modes);
     }
-    drop(a);
     modes.sort_by(|a, b| a.eigenvalue.total_cmp(&b.eigenvalue));
     // A mode is refused only where its residual is above both the tolerance and what double
     // precision lets it reach (modal::residual).

@@ -18,6 +18,8 @@
 //! curved and wider than the best cut; refining only at the finest level cannot move it far.
 //! At the coarse levels each move shifts the cut by many fine nodes at once.
 
+use crate::random::XorShift64;
+
 /// Side labels.
 pub(super) const SIDE_A: u8 = 0;
 pub(super) const SIDE_B: u8 = 1;
@@ -61,27 +63,11 @@ impl WeightedGraph {
     }
 }
 
-/// Deterministic pseudo-random numbers (xorshift) for the matching order and the roots.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
-
 /// A vertex separator of a connected graph: one label per node ([`SIDE_A`], [`SIDE_B`],
 /// [`SEPARATOR`]) with no edge between the two sides and neither side empty; `None` when the
 /// graph is too small or too compact to be split usefully.
 pub(super) fn vertex_separator(graph: &WeightedGraph, seed: u64) -> Option<Vec<u8>> {
-    let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
+    let mut rng = XorShift64(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
     // The hierarchy: levels[k] is coarsened into levels[k + 1] by maps[k].
     let mut levels: Vec<WeightedGraph> = Vec::new();
     let mut maps: Vec<Vec<usize>> = Vec::new();
@@ -111,7 +97,7 @@ pub(super) fn vertex_separator(graph: &WeightedGraph, seed: u64) -> Option<Vec<u
 }
 
 /// Heavy-edge matching in a random node order: `map[i]` is the coarse node of fine node `i`.
-fn coarsen(graph: &WeightedGraph, rng: &mut Rng) -> (Vec<usize>, WeightedGraph) {
+fn coarsen(graph: &WeightedGraph, rng: &mut XorShift64) -> (Vec<usize>, WeightedGraph) {
     let n = graph.len();
     let mut order: Vec<usize> = (0..n).collect();
     for i in (1..n).rev() {
@@ -222,7 +208,7 @@ fn levels_from(graph: &WeightedGraph, root: usize, level: &mut [usize]) -> Vec<u
 
 /// Separators of the coarsest graph grown from several roots (each moved to a
 /// pseudo-peripheral node by repeated sweeps), refined; the lightest one.
-fn initial_separator(graph: &WeightedGraph, rng: &mut Rng) -> Option<Vec<u8>> {
+fn initial_separator(graph: &WeightedGraph, rng: &mut XorShift64) -> Option<Vec<u8>> {
     let n = graph.len();
     if n < 3 {
         return None;

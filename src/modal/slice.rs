@@ -1,14 +1,15 @@
 //! Spectrum slicing: the band cut into slices, one shift per slice (`L D Lᵀ` inside the band),
 //! and the block Lanczos of one slice, which returns exactly the slice's Sturm count.
 
-use super::block::{a_c, m_block, m_orthogonalise_lanczos, next_block, start_block};
+use super::block::{m_block, m_orthogonalise_lanczos, next_block, start_block};
 use super::dense::ritz;
 use super::factor::ShiftInvert;
 use super::residual::rounding_floor;
 use super::solution::{ModalOptions, Mode};
 use crate::{Error, Result};
+use faer::linalg::matmul::matmul;
 use faer::sparse::SparseColMat;
-use faer::Mat;
+use faer::{Accum, Mat, MatRef, Par};
 use rayon::prelude::*;
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -78,7 +79,7 @@ pub fn check_slices(slices: usize) -> Result<()> {
 pub(super) fn solve_slice(
     k: &SparseColMat<usize, f64>,
     m: &SparseColMat<usize, f64>,
-    op: &ShiftInvert<'_>,
+    op: ShiftInvert<'_>,
     slice: &Slice,
     count: Option<usize>,
     opts: &ModalOptions,
@@ -238,17 +239,20 @@ pub(super) fn solve_slice(
         .collect();
     let n_wanted = wanted.len();
     let u_wanted = Mat::<f64>::from_fn(dim, n_wanted, |r, c| u[(r, wanted[c])]);
-    let mut x = vec![0.0; n * n_wanted];
-    a_c(&mut x, &q[..n * dim], u_wanted.as_ref(), 1.0, n);
-    drop(q);
     drop(mq_recent);
+    // Peak memory is the factor and the basis: the Ritz vectors are formed in the basis's own
+    // storage, M x before Op (M x) so that x is freed first, and the factor is freed after its
+    // last use.
+    let x = ritz_vectors_in_place(q, dim, u_wanted.as_ref(), n);
+    let mut mx = vec![0.0; x.len()];
+    m_block(m, &x, &mut mx);
+    drop(x);
     let mut y = vec![0.0; n * n_wanted];
     if n_wanted > 0 {
-        let mut mx = vec![0.0; x.len()];
-        m_block(m, &x, &mut mx);
         op.apply_block(&mx, &mut y);
     }
-    drop(x);
+    drop(mx);
+    drop(op);
     let mut ky = vec![0.0; y.len()];
     let mut my = vec![0.0; y.len()];
     m_block(k, &y, &mut ky);
@@ -299,4 +303,35 @@ pub(super) fn solve_slice(
         basis: dim,
         blocks,
     })
+}
+
+/// `X = Q U` (Q: the basis, `dim` columns of `n` rows, column-major; U: `dim` x `k`) written
+/// over the first `k` columns of Q's storage, which is then shrunk to them: no second buffer
+/// the size of X beside the basis. Row blocks are independent (block `r` of X reads only block
+/// `r` of Q), so each is formed in a small buffer and copied back before the next is read.
+fn ritz_vectors_in_place(mut q: Vec<f64>, dim: usize, u: MatRef<'_, f64>, n: usize) -> Vec<f64> {
+    const ROWS: usize = 4096;
+    let k = u.ncols();
+    let mut block = Mat::<f64>::zeros(ROWS.min(n), k);
+    let mut r0 = 0;
+    while r0 < n {
+        let rows = ROWS.min(n - r0);
+        matmul(
+            block.as_mut().subrows_mut(0, rows),
+            Accum::Replace,
+            MatRef::from_column_major_slice(&q[..n * dim], n, dim).subrows(r0, rows),
+            u,
+            1.0,
+            Par::rayon(0),
+        );
+        for c in 0..k {
+            for r in 0..rows {
+                q[c * n + r0 + r] = block[(r, c)];
+            }
+        }
+        r0 += rows;
+    }
+    q.truncate(n * k);
+    q.shrink_to_fit();
+    q
 }
