@@ -335,3 +335,31 @@ fn ritz_vectors_in_place(mut q: Vec<f64>, dim: usize, u: MatRef<'_, f64>, n: usi
     q.shrink_to_fit();
     q
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::random::XorShift64;
+
+    #[test]
+    fn ritz_vectors_in_place_match_a_plain_product() {
+        // n spans several row blocks (4096 rows each) and ends in a partial one; the plain
+        // triple loop is the reference. Same products in another order: 1e-12 relative.
+        let (n, dim, k) = (9000, 12, 5);
+        let mut rng = XorShift64::seeded(7);
+        let q: Vec<f64> = (0..n * dim).map(|_| rng.centred_uniform()).collect();
+        let u = Mat::<f64>::from_fn(dim, k, |_, _| rng.centred_uniform());
+        let x = ritz_vectors_in_place(q.clone(), dim, u.as_ref(), n);
+        assert_eq!(x.len(), n * k);
+        for c in 0..k {
+            for r in 0..n {
+                let plain: f64 = (0..dim).map(|j| q[j * n + r] * u[(j, c)]).sum();
+                assert!(
+                    (x[c * n + r] - plain).abs() <= 1e-12 * (1.0 + plain.abs()),
+                    "row {r}, column {c}: {} against {plain}",
+                    x[c * n + r]
+                );
+            }
+        }
+    }
+}
