@@ -44,19 +44,7 @@ fn preloaded(loaded: &LoadedCase, method: PreloadMethod, tag: &str) -> Preloaded
         &std::fs::read_to_string(dir.join("patches/patch_0000000.0us.json")).unwrap(),
     )
     .unwrap();
-    let total: f64 = snap.points.iter().map(|p| p.pressure_pa).sum();
-    let mean = |f: &dyn Fn(&squeal::kalker::snapshot::PatchPoint) -> f64| {
-        snap.points
-            .iter()
-            .map(|p| p.pressure_pa * f(p))
-            .sum::<f64>()
-            / total
-    };
-    let (xc, yc) = (mean(&|p| p.x_m), mean(&|p| p.y_m));
-    let semi_axes_m = [
-        (5.0 * mean(&|p| (p.x_m - xc).powi(2))).sqrt(),
-        (5.0 * mean(&|p| (p.y_m - yc).powi(2))).sqrt(),
-    ];
+    let (_, semi_axes_m) = patch_centre_and_semi_axes(&snap);
     let _ = std::fs::remove_dir_all(&dir);
     Preloaded {
         vertical_n: [vertical[0], vertical[1]],
@@ -257,17 +245,7 @@ fn static_patch_at_1mm_matches_hertz() {
         &std::fs::read_to_string(dir.join("patches/patch_0000000.0us.json")).unwrap(),
     )
     .unwrap();
-    let total: f64 = snap.points.iter().map(|p| p.pressure_pa).sum();
-    let centre = |f: &dyn Fn(&squeal::kalker::snapshot::PatchPoint) -> f64| {
-        snap.points
-            .iter()
-            .map(|p| p.pressure_pa * f(p))
-            .sum::<f64>()
-            / total
-    };
-    let (xc, yc) = (centre(&|p| p.x_m), centre(&|p| p.y_m));
-    let a = (5.0 * centre(&|p| (p.x_m - xc).powi(2))).sqrt();
-    let b = (5.0 * centre(&|p| (p.y_m - yc).powi(2))).sqrt();
+    let ([_, yc], [a, b]) = patch_centre_and_semi_axes(&snap);
     let peak = snap
         .points
         .iter()
@@ -319,4 +297,28 @@ fn static_patch_at_1mm_matches_hertz() {
         );
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Pressure-weighted centre `[x, y]` and semi-axes `[a, b]` (m) of a patch snapshot: for a
+/// Hertzian (half-ellipsoid) pressure the second moment about the centre along an axis is a
+/// fifth of the semi-axis squared, so `a = sqrt(5 <(x - xc)²>)`.
+fn patch_centre_and_semi_axes(
+    snap: &squeal::kalker::snapshot::PatchSnapshot,
+) -> ([f64; 2], [f64; 2]) {
+    let total: f64 = snap.points.iter().map(|p| p.pressure_pa).sum();
+    let mean = |f: &dyn Fn(&squeal::kalker::snapshot::PatchPoint) -> f64| {
+        snap.points
+            .iter()
+            .map(|p| p.pressure_pa * f(p))
+            .sum::<f64>()
+            / total
+    };
+    let (xc, yc) = (mean(&|p| p.x_m), mean(&|p| p.y_m));
+    (
+        [xc, yc],
+        [
+            (5.0 * mean(&|p| (p.x_m - xc).powi(2))).sqrt(),
+            (5.0 * mean(&|p| (p.y_m - yc).powi(2))).sqrt(),
+        ],
+    )
 }

@@ -519,13 +519,9 @@ mod tests {
     };
 
     /// Seeded uniform numbers in [-0.5, 0.5) (xorshift64).
-    fn xorshift(mut seed: u64) -> impl FnMut() -> f64 {
-        move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        }
+    fn xorshift(seed: u64) -> impl FnMut() -> f64 {
+        let mut rng = crate::random::XorShift64(seed);
+        move || rng.centred_uniform()
     }
 
     /// The butterflies against the base vectors they stand for, on seeded random values.

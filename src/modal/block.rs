@@ -3,6 +3,7 @@
 //! Krylov block with its coupling, and the random start block.
 
 use crate::fem::assembly::sym_lower_matvec;
+use crate::random::XorShift64;
 use crate::{Error, Result};
 use faer::linalg::matmul::matmul;
 use faer::sparse::SparseColMat;
@@ -12,15 +13,8 @@ use rayon::prelude::*;
 /// Deterministic pseudo-random start vector (xorshift), so runs are reproducible; both
 /// Lanczos solvers (3D and axisymmetric) start from it.
 pub(crate) fn random_vector(n: usize, seed: u64) -> Vec<f64> {
-    let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-    (0..n)
-        .map(|_| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        })
-        .collect()
+    let mut rng = XorShift64::seeded(seed);
+    (0..n).map(|_| rng.centred_uniform()).collect()
 }
 
 /// Columns per pass of [`m_block`] over the matrix.

@@ -67,7 +67,7 @@ impl WeightedGraph {
 /// [`SEPARATOR`]) with no edge between the two sides and neither side empty; `None` when the
 /// graph is too small or too compact to be split usefully.
 pub(super) fn vertex_separator(graph: &WeightedGraph, seed: u64) -> Option<Vec<u8>> {
-    let mut rng = XorShift64(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
+    let mut rng = XorShift64::seeded(seed);
     // The hierarchy: levels[k] is coarsened into levels[k + 1] by maps[k].
     let mut levels: Vec<WeightedGraph> = Vec::new();
     let mut maps: Vec<Vec<usize>> = Vec::new();
