@@ -316,6 +316,23 @@ fn bad_case_files_name_the_field() {
             "\"velocity_m_per_s\": NaN,",
             "case.json",
         ),
+        // Multi-rate levels whose steps would not fall on each other's, too many levels, a
+        // mode that does not exist.
+        (
+            "\"penalty_scale\": 0.1",
+            "\"time_stepping\": {\"level_ratio\": 3}, \"penalty_scale\": 0.1",
+            "time_stepping.level_ratio",
+        ),
+        (
+            "\"penalty_scale\": 0.1",
+            "\"time_stepping\": {\"level_ratio\": 8, \"max_levels\": 7}, \"penalty_scale\": 0.1",
+            "time_stepping.max_levels",
+        ),
+        (
+            "\"penalty_scale\": 0.1",
+            "\"time_stepping\": {\"multi_rate\": \"sometimes\"}, \"penalty_scale\": 0.1",
+            "time_stepping.multi_rate",
+        ),
         // The forward guide switched off under a prescribed creepage, which holds the speed.
         (
             "\"hold_forward_speed\": true,",

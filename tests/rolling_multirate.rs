@@ -1,13 +1,18 @@
-//! Multi-rate stepping of a rolling run (`SimulateOptions::multi_rate_levels`,
+//! Multi-rate stepping of a rolling run (`SimulateOptions::multi_rate`,
 //! `squeal simulate --multi-rate`) against the single-rate run of the same case: the tiny CI
 //! case, its contact forces and rim velocities compared sample by sample (in the suite), and
 //! the demo case 3 over its 40 ms with the dominant peaks of its rim vibration (ignored).
 
 use std::path::Path;
 
-use squeal::model::case::load_case;
-use squeal::rolling::{simulate, SimulateOptions};
+use squeal::model::case::{load_case, MultiRateMode};
+use squeal::rolling::stepping::{choose_stepping, AUTO_MAX_ELEMENT_WORK};
+use squeal::rolling::{build, simulate, SimulateOptions};
 use squeal::table::Table;
+
+#[allow(dead_code)] // the helpers this file does not use
+mod tiny_case;
+use tiny_case::{edited_tiny_case, refused_with};
 
 /// `rms(a - b) / rms(a)` of a column of two runs' tables.
 fn rms_difference(a: &Table, b: &Table, column: &str) -> f64 {
@@ -27,20 +32,20 @@ fn single_and_multi_rate(
     let loaded = load_case(Path::new(case)).unwrap();
     let root = std::env::temp_dir().join(format!("squeal_multirate_{tag}_{}", std::process::id()));
     let mut tables = Vec::new();
-    for levels in [None, Some(8)] {
-        let dir = root.join(if levels.is_some() { "multi" } else { "single" });
+    for multi in [false, true] {
+        let dir = root.join(if multi { "multi" } else { "single" });
         let mut opts = SimulateOptions::new(dir.clone());
-        opts.multi_rate_levels = levels;
+        opts.multi_rate = Some(if multi {
+            MultiRateMode::On
+        } else {
+            MultiRateMode::Off
+        });
         let record = simulate(&loaded, &opts).unwrap();
         assert_eq!(record.run.status, "completed");
         let step_levels = record.model.step_levels.as_ref();
         println!(
             "{}: time loop {:.1} s, {} steps; elements per level {:?}, element work {:?}",
-            if levels.is_some() {
-                "multi-rate"
-            } else {
-                "single rate"
-            },
+            if multi { "multi-rate" } else { "single rate" },
             record.run.wall_s,
             record.run.steps,
             step_levels.map(|l| l.elements_per_level.clone()),
@@ -160,4 +165,92 @@ fn demo_case3_multi_rate_against_single_rate() {
     // frequencies: the peaks move up by up to about 1 % (measured 0.2-1.1 %, largest 1.10 %).
     // 2 % separates that from a different mode.
     assert!(worst_shift < 0.02, "{worst_shift}");
+}
+
+/// The case's `time_stepping` on the tiny model, decided without running: `auto` subcycles
+/// exactly when the planned element work is at most the rule's bound, `off` and the
+/// command line's override win, and a level ratio of 4 leaves every odd binary level empty.
+#[test]
+fn time_stepping_follows_the_case_and_the_override() {
+    let loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
+    let m = build(&loaded).unwrap();
+    let spec = loaded.case.time_stepping;
+    assert_eq!(
+        spec.multi_rate,
+        MultiRateMode::Auto,
+        "the case leaves it out"
+    );
+    let auto = choose_stepping(&m, &spec, None, "case").unwrap();
+    let work = auto.planned.as_ref().unwrap().element_work_fraction;
+    println!("tiny: {} (work {work:.3})", auto.reason);
+    assert_eq!(auto.multi_rate, work <= AUTO_MAX_ELEMENT_WORK);
+    assert!(auto.reason.contains("auto"), "{}", auto.reason);
+    let off = choose_stepping(&m, &spec, Some(MultiRateMode::Off), "case").unwrap();
+    assert!(!off.multi_rate && off.reason.contains("command line"));
+    let mut by_case = spec;
+    by_case.multi_rate = MultiRateMode::Off;
+    let off = choose_stepping(&m, &by_case, None, "case").unwrap();
+    assert!(!off.multi_rate && off.reason.contains("time_stepping.multi_rate"));
+    let on = choose_stepping(&m, &by_case, Some(MultiRateMode::On), "case").unwrap();
+    assert!(on.multi_rate);
+    // Levels four apart: only even binary levels hold elements, and fewer elements step
+    // coarse than with levels two apart.
+    let mut four = spec;
+    four.level_ratio = 4;
+    let p4 = choose_stepping(&m, &four, Some(MultiRateMode::On), "case")
+        .unwrap()
+        .planned
+        .unwrap();
+    let p2 = on.planned.unwrap();
+    println!("levels 2x apart {:?}, 4x apart {:?}", p2.counts, p4.counts);
+    assert!(p4.counts.iter().skip(1).step_by(2).all(|&c| c == 0));
+    assert!(p4.element_work_fraction > p2.element_work_fraction);
+    let mut bad = spec;
+    bad.level_ratio = 3;
+    let e = choose_stepping(&m, &bad, None, "case.json")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("time_stepping.level_ratio") && e.contains("power of two"),
+        "{e}"
+    );
+}
+
+/// A tiny model whose sleepers are 50 mm high slabs cut into 1 mm layers: its finest elements
+/// sit there, about three times finer than the contact's (concrete at 4.1 km/s over 1 mm,
+/// 0.24 us, against the steel band's 0.7 us). A request for subcycling (`on`) is refused before the preload, naming the field;
+/// `auto` runs it single rate and says why.
+#[test]
+fn subcycling_is_refused_where_the_contact_is_not_the_finest() {
+    let edit = (
+        "\"height_m\": 0.2,\n      \"half_length_m\": 1.3,\n      \"divisions\": [\n        2,\n        3,\n        2\n      ]",
+        "\"height_m\": 0.05,\n      \"half_length_m\": 1.3,\n      \"divisions\": [2, 3, 50]",
+    );
+    let (dir, loaded) = edited_tiny_case(
+        "coarse_contact_on",
+        edit,
+        (
+            "\"penalty_scale\": 0.1",
+            "\"time_stepping\": {\"multi_rate\": \"on\"}, \"penalty_scale\": 0.1",
+        ),
+    );
+    refused_with(
+        &dir,
+        &loaded,
+        &[
+            "time_stepping.multi_rate",
+            "would not sit at the finest level",
+        ],
+    );
+    let (dir, loaded) = edited_tiny_case(
+        "coarse_contact_auto",
+        edit,
+        ("\"penalty_scale\": 0.1", "\"penalty_scale\": 0.1"),
+    );
+    let m = build(&loaded).unwrap();
+    let auto = choose_stepping(&m, &loaded.case.time_stepping, None, "case").unwrap();
+    println!("{}", auto.reason);
+    assert!(!auto.multi_rate);
+    assert!(auto.reason.contains("would not sit at the finest level"));
+    let _ = std::fs::remove_dir_all(&dir);
 }

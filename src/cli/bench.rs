@@ -76,9 +76,12 @@ pub struct RollingBenchArgs {
     #[arg(long, value_enum, default_value_t = SearchArg::Region)]
     pub contact_search: SearchArg,
     /// Time the steps with multi-rate stepping (as `simulate --multi-rate`): prints each
-    /// level's element cost.
-    #[arg(long)]
+    /// level's element cost. Without this or --single-rate the case's `time_stepping` decides.
+    #[arg(long, conflicts_with = "single_rate")]
     pub multi_rate: bool,
+    /// Time the steps single rate (as `simulate --single-rate`).
+    #[arg(long)]
+    pub single_rate: bool,
 }
 
 /// `--contact-search`.
@@ -106,8 +109,8 @@ fn rolling(a: RollingBenchArgs) -> Result<()> {
         SearchArg::Region => squeal::contact::ContactSearch::Region,
         SearchArg::Full => squeal::contact::ContactSearch::Full,
     };
-    let levels = a.multi_rate.then_some(super::simulate::MULTI_RATE_LEVELS);
-    let p = squeal::rolling::bench::step_profile(&loaded, a.steps, search, levels)?;
+    let mode = super::simulate::stepping_override(a.multi_rate, a.single_rate);
+    let p = squeal::rolling::bench::step_profile(&loaded, a.steps, search, mode)?;
     println!(
         "nodes={} elements={} contact_slaves={} threads={} dt_s={:.4e} ({}) steps={}",
         p.nodes,
@@ -118,6 +121,7 @@ fn rolling(a: RollingBenchArgs) -> Result<()> {
         p.time_step_limited_by,
         p.steps
     );
+    println!("time_stepping: {}", p.time_stepping);
     if p.multi_rate {
         println!(
             "levels={} (multi-rate: level k steps every 2^k steps) ns_per_element_step_by_level {}",

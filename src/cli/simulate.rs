@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use squeal::model::case::PreloadMethod;
+use squeal::model::case::{MultiRateMode, PreloadMethod};
 use squeal::rolling::{load_case, simulate, SimulateOptions, StopFlag};
 use squeal::{Error, Result};
 
@@ -60,9 +60,13 @@ pub struct SimulateArgs {
     pub quiet: bool,
     /// Multi-rate (subcycled) stepping of the rolling run: elements at power-of-two multiples
     /// of the finest step by their own stable steps, the contact's nodes at the finest
-    /// (docs/rolling.md). Off by default: the single-rate run is the reference.
-    #[arg(long)]
+    /// (docs/rolling.md). Without this or --single-rate the case's `time_stepping` decides
+    /// (automatic by default: multi-rate where it saves enough element work).
+    #[arg(long, conflicts_with = "single_rate")]
     pub multi_rate: bool,
+    /// Single-rate stepping: every element at the smallest stable step (the reference).
+    #[arg(long)]
+    pub single_rate: bool,
     /// How to find the static preload, instead of the case's `preload.method`: `implicit`
     /// (Newton's method with a sparse Cholesky) or `dynamic-relaxation`.
     #[arg(long, value_enum)]
@@ -111,11 +115,17 @@ fn stop_on_signal() -> StopFlag {
     stop
 }
 
-/// Run `squeal simulate`.
-/// Most levels of `--multi-rate`: steps up to 128 times the finest (the demo and paper meshes
-/// use 6 and 8).
-pub const MULTI_RATE_LEVELS: usize = 8;
+/// `--multi-rate` / `--single-rate` as an override of the case's `time_stepping.multi_rate`
+/// (None: the case decides).
+pub fn stepping_override(multi_rate: bool, single_rate: bool) -> Option<MultiRateMode> {
+    match (multi_rate, single_rate) {
+        (true, _) => Some(MultiRateMode::On),
+        (_, true) => Some(MultiRateMode::Off),
+        _ => None,
+    }
+}
 
+/// Run `squeal simulate`.
 pub fn run(args: SimulateArgs) -> Result<()> {
     let stop = stop_on_signal();
     let cases: Vec<(PathBuf, PathBuf)> = if args.all_cases {
@@ -157,7 +167,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             end_time_s: args.end_time_ms.map(|t| t * 1e-3),
             stop: stop.clone(),
             verify_contact_region: false,
-            multi_rate_levels: args.multi_rate.then_some(MULTI_RATE_LEVELS),
+            multi_rate: stepping_override(args.multi_rate, args.single_rate),
             preload_method: args.preload.map(PreloadChoice::method),
         };
         println!(
@@ -182,6 +192,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
                 .map(|d| format!(": {d}"))
                 .unwrap_or_default()
         );
+        println!("  time stepping: {}", record.model.time_stepping);
         if let Some(mu) = record.measured_traction_coefficient {
             println!("  measured traction coefficient (last quarter) {mu:.3}");
         }

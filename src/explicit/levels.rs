@@ -4,7 +4,9 @@
 //! elements by powers of two of the smallest step).
 //!
 //! An element's own level is `floor(log2(t_e / t_min))`, `t_e` its stable step (transit time)
-//! and `t_min` the smallest over the model, capped at `max_levels - 1`. A node moves at the
+//! and `t_min` the smallest over the model, capped at `max_levels - 1`. With a level ratio
+//! `r = 2^p` above 2 ([`LevelScheme`]) only every p-th of these binary levels is used: the own
+//! level is rounded down to a multiple of p, so neighbouring levels step `r` times apart. A node moves at the
 //! finest level among its elements, and an element is updated as often as its finest node,
 //! so an element next to a finer one is updated at the finer rate (the interface). Nodes that
 //! must stay at the finest level (contact slaves and master faces) pull their elements down
@@ -23,6 +25,7 @@ use rayon::prelude::*;
 use super::batch::{add_block_forces, ElementBatch};
 use super::colour::SharedMut;
 use crate::mesh::P3;
+pub use crate::model::time_stepping::{LevelScheme, MAX_BINARY_LEVELS};
 
 /// The levels of a model.
 #[derive(Clone, Debug, PartialEq)]
@@ -49,8 +52,28 @@ pub fn partition(
     finest_nodes: &[usize],
     max_levels: usize,
 ) -> LevelPartition {
+    partition_with(
+        elements,
+        transit_s,
+        node_count,
+        finest_nodes,
+        LevelScheme::binary(max_levels),
+    )
+}
+
+/// [`partition`] with levels `scheme.ratio` apart (a power of two; a ratio that is not is taken
+/// as the power of two below it, so check the scheme first). The partition's levels are the
+/// engine's binary ones: with ratio `2^p` only every p-th holds elements.
+pub fn partition_with(
+    elements: &[[usize; 8]],
+    transit_s: &[f64],
+    node_count: usize,
+    finest_nodes: &[usize],
+    scheme: LevelScheme,
+) -> LevelPartition {
     assert_eq!(elements.len(), transit_s.len(), "one transit per element");
-    let max_levels = max_levels.clamp(1, 16);
+    let step = scheme.ratio_log2().max(1);
+    let max_levels = scheme.binary_levels().clamp(1, MAX_BINARY_LEVELS);
     let finest_step_s = transit_s
         .iter()
         .copied()
@@ -61,7 +84,8 @@ pub fn partition(
         .map(|&t| {
             let ratio = (t / finest_step_s).max(1.0);
             // 1e-12: an element exactly at 2^k t_min stays at level k despite rounding.
-            (ratio.log2() + 1e-12).floor().min((max_levels - 1) as f64) as u8
+            let binary = (ratio.log2() + 1e-12).floor().min((max_levels - 1) as f64) as usize;
+            (binary / step * step) as u8
         })
         .collect();
     let mut node_level = vec![u8::MAX; node_count];
@@ -192,5 +216,77 @@ mod tests {
         // Uniform transits: one level, no saving.
         let p = partition(&elements, &[3.0; 8], nodes, &[], 8);
         assert_eq!((p.counts.clone(), p.element_work_fraction), (vec![8], 1.0));
+    }
+
+    #[test]
+    fn a_level_ratio_of_four_uses_every_second_binary_level() {
+        let transits = [1.0, 2.0, 4.0, 8.0, 16.0, 16.0, 16.0, 16.0];
+        let (elements, nodes) = bar(&transits);
+        let scheme = LevelScheme {
+            max_levels: 8,
+            ratio: 4,
+        };
+        let p = partition_with(&elements, &transits, nodes, &[], scheme);
+        // Own binary levels 0..4 rounded down to even: 0, 0, 2, 2, 4, 4, 4, 4; each element
+        // follows its finer neighbour.
+        assert_eq!(p.element_level, vec![0, 0, 0, 2, 2, 4, 4, 4]);
+        assert_eq!(p.counts, vec![3, 0, 2, 0, 3]);
+        let work = (3.0 + 2.0 / 4.0 + 3.0 / 16.0) / 8.0;
+        assert!((p.element_work_fraction - work).abs() < 1e-15);
+        // Two levels four apart: nothing beyond binary level 2.
+        let two = LevelScheme {
+            max_levels: 2,
+            ratio: 4,
+        };
+        let p = partition_with(&elements, &transits, nodes, &[], two);
+        assert_eq!(p.element_level, vec![0, 0, 0, 2, 2, 2, 2, 2]);
+        // The binary scheme is `partition`'s.
+        assert_eq!(
+            partition_with(&elements, &transits, nodes, &[], LevelScheme::binary(8)),
+            partition(&elements, &transits, nodes, &[], 8)
+        );
+    }
+
+    #[test]
+    fn a_level_ratio_that_is_not_a_power_of_two_is_refused() {
+        for ratio in [0, 1, 3, 6, 12] {
+            let e = LevelScheme {
+                max_levels: 4,
+                ratio,
+            }
+            .check("case.json", "time_stepping.")
+            .unwrap_err()
+            .to_string();
+            assert!(
+                e.contains("case.json") && e.contains("time_stepping.level_ratio"),
+                "{e}"
+            );
+            assert!(
+                e.contains("power of two") && e.contains(&format!("got {ratio}")),
+                "{e}"
+            );
+        }
+        // 16 binary levels at most: 8 levels four apart need 15, 9 need 17.
+        let ok = LevelScheme {
+            max_levels: 8,
+            ratio: 4,
+        };
+        assert!(ok.check("c", "").is_ok());
+        let e = LevelScheme {
+            max_levels: 9,
+            ratio: 4,
+        }
+        .check("c", "")
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("max_levels") && e.contains("[1, 8]"), "{e}");
+        assert!(LevelScheme::binary(16).check("c", "").is_ok());
+        assert!(LevelScheme::binary(17).check("c", "").is_err());
+        assert!(LevelScheme::binary(0).check("c", "").is_err());
+        let widest = LevelScheme {
+            max_levels: 2,
+            ratio: 32768,
+        };
+        assert!(widest.check("c", "").is_ok());
     }
 }

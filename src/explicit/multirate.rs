@@ -28,7 +28,7 @@
 
 use super::batch::{ElementBatch, LANES};
 use super::colour::{colour_blocks, SharedMut};
-use super::levels::{add_level_forces, partition, LevelPartition, MultiRate};
+use super::levels::{add_level_forces, partition_with, LevelPartition, LevelScheme, MultiRate};
 use super::model::{Elements, Model};
 use super::solver::{Solver, BLOCK_ELEMENTS, ROLE_RIGID, ROLE_SLAVE};
 use crate::mesh::P3;
@@ -64,20 +64,25 @@ impl Solver {
         max_levels: usize,
         finest_nodes: &[usize],
     ) -> Result<&LevelPartition> {
-        if !(1..=16).contains(&max_levels) {
-            return Err(Error::input(
-                "multi-rate",
-                "levels",
-                format!("must be in [1, 16], got {max_levels}"),
-            ));
-        }
-        let Elements::OnePoint(elements) = &self.model.elements else {
+        self.enable_multi_rate_with(LevelScheme::binary(max_levels), finest_nodes)
+    }
+
+    /// The partition that multi-rate stepping with `scheme` would use, with `finest_nodes` and
+    /// the engine's own fixed nodes (module docs) at level 0, without switching it on: for
+    /// deciding whether subcycling pays. Errors as [`Solver::enable_multi_rate_with`].
+    pub fn plan_multi_rate(
+        &self,
+        scheme: LevelScheme,
+        finest_nodes: &[usize],
+    ) -> Result<LevelPartition> {
+        scheme.check("multi-rate", "")?;
+        if !matches!(self.model.elements, Elements::OnePoint(_)) {
             return Err(Error::input(
                 "multi-rate",
                 "formulation",
                 "multi-rate stepping needs one-point elements (the batched kernel)",
             ));
-        };
+        }
         if self.batches.is_empty() {
             return Err(Error::input(
                 "multi-rate",
@@ -103,13 +108,27 @@ impl Solver {
         for pm in &self.model.prescribed {
             finest.extend(pm.nodes.iter().copied());
         }
-        let p = partition(
+        Ok(partition_with(
             &self.model.mesh.elements,
             &element_transits_s(&self.model),
             n,
             &finest,
-            max_levels,
-        );
+            scheme,
+        ))
+    }
+
+    /// [`Solver::enable_multi_rate`] with levels `scheme.ratio` apart (a power of two; an
+    /// error names `level_ratio` otherwise).
+    pub fn enable_multi_rate_with(
+        &mut self,
+        scheme: LevelScheme,
+        finest_nodes: &[usize],
+    ) -> Result<&LevelPartition> {
+        let p = self.plan_multi_rate(scheme, finest_nodes)?;
+        let n = self.model.node_count();
+        let Elements::OnePoint(elements) = &self.model.elements else {
+            unreachable!("plan_multi_rate refuses other formulations");
+        };
         // Batches ordered by level, each level packed and coloured on its own (the single-rate
         // batches freed first: at paper scale they are hundreds of MB).
         let capacity = self.batches.len() + p.counts.len();

@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 pub use super::lateral::{LateralMotion, LateralRamp, LateralTable};
+pub use super::time_stepping::{MultiRateMode, TimeSteppingSpec};
 use crate::friction::FrictionLaw;
 use crate::scenario::LoadedScenario;
 use crate::{Error, Result};
@@ -198,6 +199,9 @@ pub struct RollingCase {
     pub track_centre_symmetry: bool,
     /// Static preload.
     pub preload: PreloadSpec,
+    /// Single rate or multi-rate stepping of the rolling run (absent: automatic, docs/rolling.md).
+    #[serde(default)]
+    pub time_stepping: TimeSteppingSpec,
     /// Output.
     pub output: OutputSpec,
 }
@@ -390,6 +394,7 @@ impl RollingCase {
                 ));
             }
         }
+        self.time_stepping.validate(source)?;
         let o = &self.output;
         if !(o.sample_rate_hz >= 100.0 && o.sample_rate_hz <= 1e7) {
             return Err(Error::input(

@@ -10,7 +10,8 @@
 //!   `rolling::build` applies to the explicit engine;
 //! - [`modal`]: the modal model of a wheel file or an imported mesh (assembled stiffness and
 //!   mass, clamps), which `modal::pipeline` solves and classifies;
-//! - [`spring`]: a spring-damper between two nodes or to the ground.
+//! - [`spring`]: a spring-damper between two nodes or to the ground;
+//! - [`time_stepping`]: single rate or multi-rate, and the levels' scheme.
 //!
 //! One material type serves every stage ([`Material`]); it sits at the bottom of the import
 //! order (`crate::material`) because the wheel file, read before this stage, already carries
@@ -22,5 +23,6 @@ pub mod lateral;
 pub mod modal;
 pub mod rolling;
 pub mod spring;
+pub mod time_stepping;
 
 pub use crate::material::Material;

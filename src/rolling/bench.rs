@@ -11,8 +11,9 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::build::build;
+use super::stepping::{apply_stepping, choose_stepping, contact_nodes};
 use crate::explicit::solver::AuxForces;
-use crate::model::case::LoadedCase;
+use crate::model::case::{LoadedCase, MultiRateMode};
 use crate::{Error, Result};
 
 /// Warm-up steps before timing: the contact engages and the caches fill.
@@ -66,20 +67,22 @@ pub struct StepProfile {
     pub element_work_fraction_free_contact: f64,
     /// Whether the steps were timed with multi-rate stepping on.
     pub multi_rate: bool,
+    /// How the steps were timed, and why (`rolling::stepping`).
+    pub time_stepping: String,
     /// With multi-rate stepping: the element forces of each level alone, per element of the
     /// level and evaluation (ns).
     pub level_ns_per_element_step: Vec<f64>,
 }
 
 /// Times `steps` steps of each part of the case's rolling step, with the contact search
-/// `search`, single rate or with multi-rate stepping over at most `multi_rate_levels` levels
-/// (then `steps` is rounded up to whole cycles of the coarsest level, and the element part is
-/// the mean over a cycle).
+/// `search`, stepping as the case's `time_stepping` says or as `multi_rate` overrides it
+/// ([`super::stepping`]; multi-rate: `steps` is rounded up to whole cycles of the coarsest
+/// level, and the element part is the mean over a cycle).
 pub fn step_profile(
     loaded: &LoadedCase,
     steps: usize,
     search: crate::contact::ContactSearch,
-    multi_rate_levels: Option<usize>,
+    multi_rate: Option<MultiRateMode>,
 ) -> Result<StepProfile> {
     if !(1..=1_000_000).contains(&steps) {
         return Err(Error::input(
@@ -92,11 +95,9 @@ pub fn step_profile(
     m.contact.pair.search = search;
     let mut steps = steps;
     let mut level_ns_per_element_step = Vec::new();
-    if let Some(levels) = multi_rate_levels {
-        let mut finest: Vec<usize> = m.contact.pair.slaves.clone();
-        finest.extend(m.contact.pair.faces.iter().flatten());
-        m.solver.enable_multi_rate(levels, &finest)?;
-    }
+    let source = loaded.source.display().to_string();
+    let choice = choose_stepping(&m, &loaded.case.time_stepping, multi_rate, &source)?;
+    apply_stepping(&mut m, &choice)?;
     for _ in 0..WARM_UP_STEPS {
         m.solver.step_with(&mut m.contact, false, false)?;
     }
@@ -151,21 +152,11 @@ pub fn step_profile(
     }
     let step_s = started.elapsed().as_secs_f64() / steps as f64;
     let elements = m.solver.model.elements.len();
-    // Power-of-two levels of the elements' stable steps, the contact's nodes at the finest.
-    let mut finest: Vec<usize> = m.contact.pair.slaves.clone();
-    finest.extend(m.contact.pair.faces.iter().flatten());
-    let transits = crate::explicit::multirate::element_transits_s(&m.solver.model);
-    let partition = |finest: &[usize]| {
-        crate::explicit::levels::partition(
-            &m.solver.model.mesh.elements,
-            &transits,
-            m.solver.u.len(),
-            finest,
-            8,
-        )
-    };
-    let levels = partition(&finest);
-    let free_contact = partition(&[]);
+    // The engine's levels (module docs of `explicit::multirate`), with and without the
+    // contact's nodes held at the finest.
+    let finest = contact_nodes(&m);
+    let levels = m.solver.plan_multi_rate(choice.scheme, &finest)?;
+    let free_contact = m.solver.plan_multi_rate(choice.scheme, &[])?;
     let case_steps = (loaded.case.end_time_s / m.solver.dt_s).ceil() as usize;
     Ok(StepProfile {
         nodes: m.solver.u.len(),
@@ -188,7 +179,8 @@ pub fn step_profile(
         level_counts: levels.counts,
         element_work_fraction: levels.element_work_fraction,
         element_work_fraction_free_contact: free_contact.element_work_fraction,
-        multi_rate: multi_rate_levels.is_some(),
+        multi_rate: choice.multi_rate,
+        time_stepping: choice.reason.clone(),
         level_ns_per_element_step,
     })
 }

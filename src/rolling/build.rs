@@ -53,6 +53,8 @@ pub struct ModelInfo {
     /// Smallest wheel-rail gap measured on the meshes before the preload (m; negative:
     /// penetrating by the meshes' faceting).
     pub initial_gap_m: f64,
+    /// How the rolling run steps, and why (`rolling::stepping`).
+    pub time_stepping: String,
     /// Multi-rate stepping of the rolling run, when on.
     pub step_levels: Option<StepLevels>,
 }
@@ -197,6 +199,7 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         contact_slaves_with_capped_penalty: capped,
         largest_penalty_scale: pair.largest_penalty_scale(),
         initial_gap_m: clearance.smallest_gap_m,
+        time_stepping: "single rate".into(),
         step_levels: None,
     };
     let contact = RollingContact::new(pair, d.rim_and_hub, &case.output, axle, d.wheel_centre_m[1]);

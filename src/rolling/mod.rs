@@ -28,6 +28,7 @@ mod drive;
 pub mod instruments;
 pub mod output;
 mod preload;
+pub mod stepping;
 
 use std::path::{Path, PathBuf};
 
@@ -36,7 +37,7 @@ use serde::Serialize;
 use crate::explicit::preload::PreloadReport;
 use crate::explicit::run::{run, HistoryProbe, Quantity, RunOptions, RunSummary};
 use crate::explicit::statics::StaticReport;
-use crate::model::case::PreloadMethod;
+use crate::model::case::{MultiRateMode, PreloadMethod};
 use crate::{Error, Result};
 use drive::{hold_forward_speed, loaded_centre_and_radius, prescribe_creepage};
 use instruments::ContactPointRecord;
@@ -73,17 +74,17 @@ pub struct SimulateOptions {
     /// search would test (a panic names the step otherwise): the guard of the region, for
     /// tests. Debug builds check every 64 steps anyway.
     pub verify_contact_region: bool,
-    /// Multi-rate stepping of the rolling run with at most this many power-of-two levels
-    /// ([`crate::explicit::multirate`]; the contact's nodes at the finest); None: single rate.
-    /// The preload always runs single rate.
-    pub multi_rate_levels: Option<usize>,
+    /// Multi-rate stepping of the rolling run ([`crate::explicit::multirate`]; the contact's
+    /// nodes at the finest) instead of the case's `time_stepping.multi_rate`, when set
+    /// ([`stepping`]). The preload always runs single rate.
+    pub multi_rate: Option<MultiRateMode>,
     /// The preload method instead of the case's, when set.
     pub preload_method: Option<PreloadMethod>,
 }
 
 impl SimulateOptions {
     /// A fresh run into `out_dir`: no resume, no overwrite, no progress bar, the case's end
-    /// time, a stop flag of its own, no per-step contact guard, single-rate stepping.
+    /// time, a stop flag of its own, no per-step contact guard, the case's time stepping.
     pub fn new(out_dir: PathBuf) -> Self {
         SimulateOptions {
             out_dir,
@@ -93,7 +94,7 @@ impl SimulateOptions {
             end_time_s: None,
             stop: StopFlag::new(),
             verify_contact_region: false,
-            multi_rate_levels: None,
+            multi_rate: None,
             preload_method: None,
         }
     }
@@ -211,6 +212,10 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
     if opts.verify_contact_region {
         m.contact.pair.verify_region_every_steps = 1;
     }
+    // A refused subcycling request stops here, before the preload's minutes (decided again
+    // below, once the prescribed motions have their nodes).
+    let source = loaded.source.display().to_string();
+    stepping::choose_stepping(&m, &case.time_stepping, opts.multi_rate, &source)?;
     let mut preload = None;
     let mut static_preload = None;
     if !opts.resume {
@@ -284,16 +289,9 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         balance_threshold: 0.05,
         stop: opts.stop.clone(),
     };
-    if let Some(levels) = opts.multi_rate_levels {
-        // After the preload and the prescribed motions, so that their nodes stay fine.
-        let mut finest = m.contact.pair.slaves.clone();
-        finest.extend(m.contact.pair.faces.iter().flatten());
-        let p = m.solver.enable_multi_rate(levels, &finest)?;
-        m.info.step_levels = Some(StepLevels {
-            elements_per_level: p.counts.clone(),
-            element_work_fraction: p.element_work_fraction,
-        });
-    }
+    // After the preload and the prescribed motions, so that their nodes stay fine.
+    let choice = stepping::choose_stepping(&m, &case.time_stepping, opts.multi_rate, &source)?;
+    stepping::apply_stepping(&mut m, &choice)?;
     m.contact.resuming = opts.resume;
     // The invariants are the rolling run's: the frictionless preload's steps are left out.
     m.contact.pair.reset_monitors();
