@@ -9,7 +9,8 @@
 //! - [`solver`]: the time step, the central-difference update and the energy balance;
 //! - [`run`]: a run with output, progress, checkpoints and resume;
 //! - [`preload`]: static equilibrium by dynamic relaxation;
-//! - [`levels`], [`multirate`]: the power-of-two level partition and subcycled stepping.
+//! - [`levels`], [`multirate`]: the power-of-two level partition and subcycled stepping;
+//! - `tie_update`: the tied interfaces' force pass and follow step, in parallel.
 //!
 //! Time curves ([`Curve`]) and spring-dampers ([`Spring`]) are the model stage's
 //! ([`crate::model`]), re-exported here.
@@ -31,6 +32,7 @@ pub mod run;
 pub mod solver;
 pub mod state;
 pub mod statics;
+mod tie_update;
 mod timestep;
 
 pub use crate::model::curve::Curve;

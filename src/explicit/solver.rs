@@ -97,6 +97,8 @@ pub struct Solver {
     pub(super) baseline_pending: bool,
     /// Multi-rate stepping, when on ([`super::multirate`], state in [`super::levels`]).
     pub(super) multi_rate: Option<super::levels::MultiRate>,
+    /// The ties' force pass as a per-master gather, built from `model.ties` by [`Solver::new`].
+    pub(super) tie_gather: super::tie_update::TieGather,
 }
 
 impl Solver {
@@ -271,6 +273,7 @@ impl Solver {
             baseline_pending: true,
             multi_rate: None,
             unscaled_dt_s: 0.0,
+            tie_gather: super::tie_update::TieGather::new(&model.ties, n),
             model,
         };
         let stable = solver.stable_time_step_s()?;
@@ -644,30 +647,12 @@ impl Solver {
             kinetic += k;
         }
         // Tie slaves follow their masters.
-        for p in &self.model.ties {
-            let (mut us, mut vs) = ([0.0; 3], [0.0; 3]);
-            for (k, m) in p.master.iter().enumerate() {
-                for i in 0..3 {
-                    us[i] += p.weights[k] * self.u[*m][i];
-                    vs[i] += p.weights[k] * self.v[*m][i];
-                }
-            }
-            if output {
-                let mut ov = [0.0; 3];
-                let mut oa = [0.0; 3];
-                for (k, m) in p.master.iter().enumerate() {
-                    for i in 0..3 {
-                        ov[i] += p.weights[k] * self.output.velocity[*m][i];
-                        oa[i] += p.weights[k] * self.output.acceleration[*m][i];
-                    }
-                }
-                self.output.displacement[p.slave] = self.u[p.slave];
-                self.output.velocity[p.slave] = ov;
-                self.output.acceleration[p.slave] = oa;
-            }
-            self.u[p.slave] = us;
-            self.v[p.slave] = vs;
-        }
+        super::tie_update::follow_masters(
+            &self.model.ties,
+            &mut self.u,
+            &mut self.v,
+            output.then_some(&mut self.output),
+        );
         // Work of springs and loads (to separate them from contact in the aux work): forces at
         // t_n times the centred velocity.
         if !self.discrete_nodes.is_empty() {
@@ -736,16 +721,8 @@ impl Solver {
         }
         aux.add_forces(t, dt, &self.u, &self.v, &mut self.f_aux);
         // Tie slaves pass their forces to the masters.
-        for p in &self.model.ties {
-            let (fi, fa) = (self.f_int[p.slave], self.f_aux[p.slave]);
-            for (k, m) in p.master.iter().enumerate() {
-                let w = p.weights[k];
-                for i in 0..3 {
-                    self.f_int[*m][i] += w * fi[i];
-                    self.f_aux[*m][i] += w * fa[i];
-                }
-            }
-        }
+        self.tie_gather
+            .pass_forces(&mut self.f_int, &mut self.f_aux);
     }
 
     /// Work increments, over the step just taken, of the springs' forces on their nodes, of the
