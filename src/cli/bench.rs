@@ -132,7 +132,8 @@ fn rolling(a: RollingBenchArgs) -> Result<()> {
         println!("levels=1 (single rate: every element at the smallest stable step)");
     }
     println!(
-        "step_levels elements per level (power-of-two partition, contact nodes at level 0) {} \
+        "step_levels elements per level (the engine's partition: contact, tie, rigid and \
+         prescribed nodes at level 0) {} \
          multi_rate_element_work={:.3} of single rate ({:.3} if the contact's nodes followed \
          their elements)",
         by_level(&p.level_counts, |c| c.to_string()),
