@@ -129,6 +129,109 @@ pub fn partition_with(
     }
 }
 
+/// Per-level work totals of a multi-rate run (J), for the per-level energy balance
+/// ([`super::multirate`], "Energy by level"). Levels above 0 only: level 0's balance is what
+/// remains of the whole model's.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LevelWork {
+    /// Work done on the level's nodes by gravity, the auxiliary forces and the reactions, less
+    /// what mass damping took from them.
+    pub external_j: [f64; MAX_BINARY_LEVELS],
+    /// Energy the level's elements took in through other levels' nodes, less what other
+    /// levels' elements took in through the level's nodes: the transfer across the level's
+    /// interfaces. Sums to zero over the levels.
+    pub transfer_j: [f64; MAX_BINARY_LEVELS],
+}
+
+impl LevelWork {
+    /// `self + s o`.
+    pub(super) fn add_scaled(&mut self, o: &LevelWork, s: f64) {
+        for k in 0..MAX_BINARY_LEVELS {
+            self.external_j[k] += s * o.external_j[k];
+            self.transfer_j[k] += s * o.transfer_j[k];
+        }
+    }
+}
+
+/// Where the internal force of an interface node comes from, level by level: an interface
+/// node is a node of level k >= 1 with elements of a finer level. At its updates (steps that
+/// are multiples of `2^k`) every level up to k is evaluated, finest first, into `f_int`; its
+/// `k` slots hold `f_int` after each finer level j < k, so that differences of neighbouring
+/// slots are the force of each finer level's elements on it.
+#[derive(Clone, Debug, Default)]
+pub(super) struct LevelInterface {
+    /// Per node, its first slot in `force_after_level` (`u32::MAX`: not an interface node).
+    pub(super) base: Vec<u32>,
+    /// Per level j, `(node, slot)` of the interface nodes coarser than j: where `f_int` is
+    /// recorded after level j's elements.
+    pub(super) record: Vec<Vec<(u32, u32)>>,
+    /// The recorded forces (N).
+    pub(super) force_after_level: Vec<P3>,
+}
+
+impl LevelInterface {
+    /// At the update of node `nd` of level `level` over `dt_node` with centred velocity
+    /// `vbar`: the work of each finer level's elements on it, `dt_k (F_j - F_(j-1)) . vbar`,
+    /// moves energy from this level to level j (nothing for a node that is not an interface
+    /// node).
+    #[inline]
+    pub(super) fn add_transfer(
+        &self,
+        nd: usize,
+        level: usize,
+        dt_node: f64,
+        vbar: &P3,
+        work: &mut LevelWork,
+    ) {
+        let base = self.base[nd];
+        if base == u32::MAX {
+            return;
+        }
+        let mut before = [0.0; 3];
+        for j in 0..level {
+            let after = self.force_after_level[base as usize + j];
+            let mut w = 0.0;
+            for i in 0..3 {
+                w += dt_node * (after[i] - before[i]) * vbar[i];
+            }
+            // The finer level's elements took `w` in through this level's node.
+            work.transfer_j[j] += w;
+            work.transfer_j[level] -= w;
+            before = after;
+        }
+    }
+
+    /// The interface nodes of `partition` over `elements`.
+    pub(super) fn new(elements: &[[usize; 8]], partition: &LevelPartition) -> Self {
+        let node_level = &partition.node_level;
+        let levels = partition.counts.len();
+        let mut finest_element = node_level.clone();
+        for (e, nodes) in elements.iter().enumerate() {
+            for &n in nodes {
+                finest_element[n] = finest_element[n].min(partition.element_level[e]);
+            }
+        }
+        let mut base = vec![u32::MAX; node_level.len()];
+        let mut record = vec![Vec::new(); levels];
+        let mut slots = 0u32;
+        for (n, &k) in node_level.iter().enumerate() {
+            if k == 0 || finest_element[n] >= k {
+                continue;
+            }
+            base[n] = slots;
+            for (j, list) in record.iter_mut().enumerate().take(k as usize) {
+                list.push((n as u32, slots + j as u32));
+            }
+            slots += k as u32;
+        }
+        LevelInterface {
+            base,
+            record,
+            force_after_level: vec![[0.0; 3]; slots as usize],
+        }
+    }
+}
+
 /// The multi-rate state of a solver ([`super::multirate`]).
 #[derive(Clone, Debug)]
 pub struct MultiRate {
@@ -147,6 +250,14 @@ pub struct MultiRate {
     pub(super) first_update_pending: Vec<bool>,
     /// Every node has updated once by this step: the pending flags need no look after it.
     pub(super) first_updates_end_step: u64,
+    /// The interface nodes' forces by level, for the transfer across levels.
+    pub(super) interface: LevelInterface,
+    /// Per-level work up to t_{n-1/2}.
+    pub(super) level_work: LevelWork,
+    /// Per-level work up to t_n of the last energy report.
+    pub(super) level_work_at_report: LevelWork,
+    /// Per level, energy less work at the first per-level balance: its baseline.
+    pub(super) level_baseline: Option<[f64; MAX_BINARY_LEVELS]>,
 }
 
 impl MultiRate {

@@ -25,10 +25,32 @@
 //! contact's slaves and master faces). The energy balance is exact bookkeeping at the steps where
 //! every level updates (`n mod 2^(L-1) = 0`): each node's work increments are its own step's,
 //! `dt_k f . vbar`.
+//!
+//! # Energy by level
+//!
+//! Level k's energy is its nodes' kinetic energy and its elements' strain and hourglass energy.
+//! At an update of a node of level k >= 1 the work `dt_k f . vbar` is split: gravity, the
+//! auxiliary forces, the reactions and mass damping are work from outside the model; the
+//! internal force is split by the level of the elements it comes from (`LevelInterface`
+//! records `f_int` after each finer level's elements at the interface nodes), and the part of
+//! a finer level j's elements is energy that leaves level k for level j. So for k >= 1
+//!
+//! ```text
+//! error_k = (E_k - E_k,0) - W_ext,k - T_k,    T_k = sum_(k'>k) W[k'][k] - sum_(j<k) W[k][j]
+//! ```
+//!
+//! with `W[k][j]` the work of level j's elements on level k's nodes; the transfers sum to zero
+//! over the levels. What is left of the whole model's balance error is level 0's, which also
+//! holds every rigid body, tie, spring, load and contact node. Each level's error is a real
+//! check: its elements' energy against the work their forces did on every node they touch,
+//! the coarser ones included at their own updates.
 
 use super::batch::{ElementBatch, LANES};
 use super::colour::{colour_blocks, SharedMut};
-use super::levels::{add_level_forces, partition_with, LevelPartition, LevelScheme, MultiRate};
+use super::levels::{
+    add_level_forces, partition_with, LevelInterface, LevelPartition, LevelScheme, LevelWork,
+    MultiRate, MAX_BINARY_LEVELS,
+};
 use super::model::{Elements, Model};
 use super::solver::{Solver, BLOCK_ELEMENTS, ROLE_RIGID, ROLE_SLAVE};
 use crate::mesh::P3;
@@ -164,7 +186,12 @@ impl Solver {
         self.batches = batches;
         let node_level = p.node_level.clone();
         let levels_used = p.counts.len();
+        let interface = LevelInterface::new(&self.model.mesh.elements, &p);
         self.multi_rate = Some(MultiRate {
+            interface,
+            level_work: LevelWork::default(),
+            level_work_at_report: LevelWork::default(),
+            level_baseline: None,
             partition: p,
             node_level,
             level_colours,
@@ -259,5 +286,33 @@ impl Solver {
             }
         }
         Some(out)
+    }
+}
+
+impl Solver {
+    /// The energy balance of each level at the last energy report (J), from its first per-level
+    /// report on (module docs, "Energy by level"): for a level k >= 1, the change of its
+    /// energy (`energies[k]`, from [`Solver::level_energies`] of the same report) less the work
+    /// done on its nodes from outside the model and less the energy that crossed its
+    /// interfaces; for level 0, what remains of the whole model's balance error, which also
+    /// holds the rigid bodies, ties, springs and contact, all at level 0. The levels add up to
+    /// the change of the whole model's error. None without multi-rate stepping or a report.
+    pub fn level_balance_errors(&mut self, energies: &[LevelEnergy]) -> Option<Vec<f64>> {
+        let global = self.last_energy?.balance_error_j;
+        let mr = self.multi_rate.as_mut()?;
+        let levels = energies.len().min(MAX_BINARY_LEVELS);
+        let work = &mr.level_work_at_report;
+        let mut raw = [0.0; MAX_BINARY_LEVELS];
+        raw[0] = global;
+        for k in 1..levels {
+            raw[k] = energies[k].kinetic_j + energies[k].internal_j
+                - work.external_j[k]
+                - work.transfer_j[k];
+        }
+        let baseline = *mr.level_baseline.get_or_insert(raw);
+        let mut errors: Vec<f64> = (0..levels).map(|k| raw[k] - baseline[k]).collect();
+        let coarse: f64 = errors[1..].iter().sum();
+        errors[0] -= coarse;
+        Some(errors)
     }
 }

@@ -238,8 +238,13 @@ pub fn run<A: AuxForces + ?Sized>(
             "time_s,kinetic_j,strain_j,hourglass_j,spring_j,damping_j,contact_j,external_work_j,balance_error_j,balance_ratio,min_det_f",
         );
         // Multi-rate runs: where the energy sits, level by level (multirate.rs).
-        for k in 0..solver.multi_rate().map_or(0, |m| m.levels()) {
+        let levels = solver.multi_rate().map_or(0, |m| m.levels());
+        for k in 0..levels {
             energy_header.push_str(&format!(",kinetic_level{k}_j,internal_level{k}_j"));
+        }
+        // ... and each level's energy balance (multirate.rs, "Energy by level").
+        for k in 0..levels {
+            energy_header.push_str(&format!(",balance_level{k}_j"));
         }
         writeln!(energy_csv, "{energy_header}").map_err(io(&energy_path))?;
     }
@@ -321,9 +326,13 @@ pub fn run<A: AuxForces + ?Sized>(
                     e.min_det_f
                 )
                 .map_err(io(&energy_path))?;
-                for level in solver.level_energies().unwrap_or_default() {
+                let levels = solver.level_energies().unwrap_or_default();
+                for level in &levels {
                     write!(energy_csv, ",{},{}", level.kinetic_j, level.internal_j)
                         .map_err(io(&energy_path))?;
+                }
+                for error in solver.level_balance_errors(&levels).unwrap_or_default() {
+                    write!(energy_csv, ",{error}").map_err(io(&energy_path))?;
                 }
                 writeln!(energy_csv).map_err(io(&energy_path))?;
                 if let Err(err) = solver.check_state(&e, opts.balance_threshold) {

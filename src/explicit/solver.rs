@@ -36,6 +36,7 @@ use super::colour::{colour_blocks, SharedMut};
 use super::element::{
     full_forces, one_point_forces, ElementEnergy, FullElement, KernelOptions, OnePointElement,
 };
+use super::levels::LevelWork;
 use super::model::{Elements, Model, MotionKind};
 use super::rotation::{cross, dot, mat_mul, mat_vec, transpose};
 pub use super::state::{EnergyReport, OutputFields, RigidState, WorkTotals};
@@ -86,7 +87,7 @@ pub struct Solver {
     pub(super) role: Vec<u8>,
     pub(super) prescribed_velocity: Vec<P3>,
     pub(super) colours: Vec<Vec<Range<usize>>>,
-    pub(super) chunk_partials: Vec<(WorkTotals, f64)>,
+    pub(super) chunk_partials: Vec<(WorkTotals, f64, LevelWork)>,
     pub(super) discrete_nodes: Vec<usize>,
     pub(super) discrete_v_old: Vec<P3>,
     pub(super) spring_force: Vec<P3>,
@@ -352,7 +353,7 @@ impl Solver {
             .for_each(|c| c.fill([0.0; 3]));
         let _ = n;
         let (u, v, opts) = (&self.u, &self.v, self.kernel);
-        if let Some(mr) = &self.multi_rate {
+        if let Some(mr) = &mut self.multi_rate {
             // Levels whose elements are due at this step, finest first (multirate.rs).
             for (level, colours) in mr.level_colours.iter().enumerate() {
                 if self.step & ((1u64 << level) - 1) != 0 {
@@ -366,6 +367,11 @@ impl Solver {
                     opts.physical_hourglass,
                     self.avx2,
                 );
+                // The interface nodes' force so far, for the transfer across levels.
+                let recorded = &mut mr.interface.force_after_level;
+                for &(nd, slot) in &mr.interface.record[level] {
+                    recorded[slot as usize] = self.f_int[nd as usize];
+                }
             }
             return;
         }
@@ -530,19 +536,21 @@ impl Solver {
         let gravity_mass = &self.gravity_mass;
         let step = self.step;
         // Multi-rate: node levels and each node's acceleration at its last update.
-        let (node_level, la_ptr, first_ptr) = match &mut self.multi_rate {
+        let (node_level, la_ptr, first_ptr, interface) = match &mut self.multi_rate {
             Some(mr) => (
                 Some(&mr.node_level),
                 Some(SharedMut(mr.last_acceleration.as_mut_ptr())),
                 (step < mr.first_updates_end_step)
                     .then_some(SharedMut(mr.first_update_pending.as_mut_ptr())),
+                Some(&mr.interface),
             ),
-            None => (None, None, None),
+            None => (None, None, None, None),
         };
         (0..n_chunks)
             .into_par_iter()
             .map(|c| {
                 let mut w = WorkTotals::default();
+                let mut lw = LevelWork::default();
                 let mut kinetic = 0.0;
                 for nd in c * NODE_CHUNK..((c + 1) * NODE_CHUNK).min(n) {
                     let r = role[nd];
@@ -594,6 +602,8 @@ impl Solver {
                     }
                     let (fi, fa) = (f_int[nd], f_aux[nd]);
                     let mut vnew = [0.0; 3];
+                    let mut vbar_node = [0.0; 3];
+                    let external_before = w.aux_j + w.gravity_j + w.reaction_j - w.mass_damping_j;
                     for i in 0..3 {
                         let force = fa[i] - fi[i] + mg * g[i] - alpha * m * vn[i];
                         vnew[i] = vn[i] + dt_node * force * im;
@@ -603,6 +613,7 @@ impl Solver {
                             vnew[i] = pv[nd][i];
                         }
                         let vbar = 0.5 * (vn[i] + vnew[i]);
+                        vbar_node[i] = vbar;
                         if r & ((1 << i) | (1 << (i + PRESCRIBED_SHIFT as usize))) != 0 {
                             // Reaction = m a - f: its work keeps the balance honest.
                             let reaction = m * (vnew[i] - vn[i]) / dt_node - force;
@@ -629,16 +640,33 @@ impl Solver {
                             *la.at(nd) = [0, 1, 2].map(|i| (vnew[i] - vn[i]) / dt_node);
                         }
                     }
+                    let level = node_level.map_or(0, |l| l[nd] as usize);
+                    if let (true, Some(iface)) = (level > 0, interface) {
+                        // Per-level bookkeeping (multirate.rs, "Energy by level").
+                        lw.external_j[level] += w.aux_j + w.gravity_j + w.reaction_j
+                            - w.mass_damping_j
+                            - external_before;
+                        iface.add_transfer(nd, level, dt_node, &vbar_node, &mut lw);
+                    }
                     *vn = vnew;
                 }
-                (w, kinetic)
+                (w, kinetic, lw)
             })
             .collect_into_vec(&mut self.chunk_partials);
         let mut inc = WorkTotals::default();
+        let mut inc_levels = LevelWork::default();
         let mut kinetic = 0.0;
-        for (w, k) in &self.chunk_partials {
+        for (w, k, lw) in &self.chunk_partials {
             inc.add_scaled(w, 1.0);
+            inc_levels.add_scaled(lw, 1.0);
             kinetic += k;
+        }
+        if let Some(mr) = &mut self.multi_rate {
+            if energy {
+                mr.level_work_at_report = mr.level_work;
+                mr.level_work_at_report.add_scaled(&inc_levels, 0.5);
+            }
+            mr.level_work.add_scaled(&inc_levels, 1.0);
         }
         // Rigid bodies.
         for b in 0..self.rigid.len() {

@@ -9,6 +9,9 @@
 //! the serial one bit for bit on any number of threads. The follow step writes each slave once
 //! and reads only masters, which the solver guarantees are never slaves (no chained ties).
 
+// Index loops mirror the tensor notation of the equations (the project's style for kernels).
+#![allow(clippy::needless_range_loop)]
+
 use rayon::prelude::*;
 
 use super::colour::SharedMut;
