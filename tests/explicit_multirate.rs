@@ -330,6 +330,22 @@ fn impossible_multi_rate_requests_are_refused() {
     assert!(e.contains("one-point elements"), "{e}");
 }
 
+/// One step of `s`; with `report`, the energy (J, kinetic + strain + hourglass), the energy by
+/// level and each level's balance error at it.
+fn step_with_level_report(
+    s: &mut Solver,
+    report: bool,
+) -> Option<(f64, Vec<squeal::explicit::multirate::LevelEnergy>, Vec<f64>)> {
+    s.step_with(&mut NoAux, false, report).unwrap();
+    if !report {
+        return None;
+    }
+    let e = s.last_energy().unwrap();
+    let levels = s.level_energies().unwrap();
+    let errors = s.level_balance_errors(&levels).unwrap();
+    Some((e.kinetic_j + e.strain_j + e.hourglass_j, levels, errors))
+}
+
 /// Each level's energy balance (`Solver::level_balance_errors`, the `balance_level{k}_j`
 /// columns of a multi-rate run's energy.csv) while the pulse crosses from level 0 into the
 /// coarse levels: a coarse level ends with nearly all of the pulse's energy, every joule of
@@ -345,15 +361,10 @@ fn each_level_keeps_its_energy_balance_as_the_pulse_crosses() {
     let mut worst = vec![0.0f64; s.multi_rate().unwrap().levels()];
     let mut last = (Vec::new(), Vec::new(), 0.0);
     for k in 0..=steps {
-        let report = k % (8 * cycle) == 0;
-        s.step_with(&mut NoAux, false, report).unwrap();
-        if !report {
+        let Some((total, levels, errors)) = step_with_level_report(&mut s, k % (8 * cycle) == 0)
+        else {
             continue;
-        }
-        let e = s.last_energy().unwrap();
-        let total = e.kinetic_j + e.strain_j + e.hourglass_j;
-        let levels = s.level_energies().unwrap();
-        let errors = s.level_balance_errors(&levels).unwrap();
+        };
         for (w, x) in worst.iter_mut().zip(&errors) {
             *w = w.max(x.abs() / total);
         }
@@ -399,15 +410,11 @@ fn a_spinning_bar_moves_energy_across_the_levels_and_each_level_balances() {
     let cycle = s.multi_rate().unwrap().full_cycle_steps();
     let (mut worst_coarse, mut first_share, mut last_share) = (0.0f64, None, 0.0);
     for k in 0..40_000u64 {
-        let report = k % (1000 * cycle) == 0;
-        s.step_with(&mut NoAux, false, report).unwrap();
-        if !report {
+        let Some((total, levels, errors)) = step_with_level_report(&mut s, k % (1000 * cycle) == 0)
+        else {
             continue;
-        }
+        };
         let e = s.last_energy().unwrap();
-        let total = e.kinetic_j + e.strain_j + e.hourglass_j;
-        let levels = s.level_energies().unwrap();
-        let errors = s.level_balance_errors(&levels).unwrap();
         let share = (levels[0].kinetic_j + levels[0].internal_j) / total;
         first_share.get_or_insert(share);
         last_share = share;
