@@ -488,6 +488,8 @@ pub(crate) fn truncate_csv_after(path: &Path, time_s: f64) -> Result<()> {
 }
 
 const MAGIC: &[u8; 8] = b"SQLCKPT1";
+/// Marks the optional multi-rate tail of a checkpoint (after the auxiliary state).
+const MULTI_RATE_TAIL: &[u8; 8] = b"SQLMRAC1";
 
 /// Fingerprint of a model: FNV-1a over node and element counts, reference coordinates and
 /// masses. A checkpoint of another model is refused.
@@ -571,6 +573,17 @@ pub fn write_checkpoint(solver: &Solver, aux_state: &[f64], path: &Path) -> Resu
     }
     for x in aux_state {
         put(&mut buf, *x);
+    }
+    if let Some(mr) = &solver.multi_rate {
+        // Optional tail: each node's acceleration at its last update, which places a coarse
+        // node's output velocity between its updates (a checkpoint without it resumes the same
+        // motion, with those output velocities off until each node's next update).
+        buf.extend_from_slice(MULTI_RATE_TAIL);
+        for a in &mr.last_acceleration {
+            for c in a {
+                put(&mut buf, *c);
+            }
+        }
     }
     let tmp = path.with_extension("bin.tmp");
     std::fs::write(&tmp, &buf).map_err(io(&tmp))?;
@@ -668,6 +681,26 @@ pub fn read_checkpoint(solver: &mut Solver, path: &Path) -> Result<Vec<f64>> {
     for _ in 0..n_aux {
         aux.push(f(&bytes)?);
     }
+    let tail_at = pos;
+    let last_acceleration = match bytes.get(tail_at..tail_at + 8) {
+        Some(tag) if tag == MULTI_RATE_TAIL => {
+            let values = bytes
+                .get(tail_at + 8..tail_at + 8 + 24 * n)
+                .ok_or_else(|| bad("file is truncated (multi-rate tail)"))?;
+            let value = |i: usize| {
+                f64::from_le_bytes(values[8 * i..8 * i + 8].try_into().expect("8 bytes"))
+            };
+            Some(
+                (0..n)
+                    .map(|i| [0, 1, 2].map(|d| value(3 * i + d)))
+                    .collect(),
+            )
+        }
+        _ => None,
+    };
     solver.restore(time_s, step, dt_s, u, v, work, rigid);
+    if let (Some(acc), Some(mr)) = (last_acceleration, solver.multi_rate.as_mut()) {
+        mr.last_acceleration = acc;
+    }
     Ok(aux)
 }
