@@ -5,12 +5,12 @@
 //!
 //! An element's own level is `floor(log2(t_e / t_min))`, `t_e` its stable step (transit time)
 //! and `t_min` the smallest over the model, capped at `max_levels - 1`. With a level ratio
-//! `r = 2^p` above 2 ([`LevelScheme`]) only every p-th of these binary levels is used: the own
-//! level is rounded down to a multiple of p, so neighbouring levels step `r` times apart. A node moves at the
-//! finest level among its elements, and an element is updated as often as its finest node,
-//! so an element next to a finer one is updated at the finer rate (the interface). Nodes that
-//! must stay at the finest level (contact slaves and master faces) pull their elements down
-//! to level 0.
+//! `r = 2^p` above 2 ([`LevelScheme`]) only every p-th of these binary levels is used: the own level
+//! is rounded down to a multiple of p, so neighbouring levels step `r` times apart. A node
+//! moves at the finest level among its elements, and an element is updated as often as its
+//! finest node, so an element next to a finer one is updated at the finer rate (the interface).
+//! Nodes that must stay at the finest level (contact slaves and master faces) pull their
+//! elements down to level 0.
 //!
 //! The element work of a multi-rate step of the coarsest level, relative to single-rate
 //! stepping at `t_min`, is `sum_k n_k 2^-k / N` (`n_k` elements at level k of N): what

@@ -118,23 +118,9 @@ pub(super) fn follow_masters(
             // and masters are never slaves, so every index written is written by one task and
             // never read by another.
             unsafe {
-                let (mut us, mut vs) = ([0.0; 3], [0.0; 3]);
-                for (k, &m) in p.master.iter().enumerate() {
-                    let (um, vm) = (*u_ptr.at(m), *v_ptr.at(m));
-                    for i in 0..3 {
-                        us[i] += p.weights[k] * um[i];
-                        vs[i] += p.weights[k] * vm[i];
-                    }
-                }
+                let (us, vs) = (on_face(p, u_ptr), on_face(p, v_ptr));
                 if let Some((od, ov, oa)) = out_ptrs {
-                    let (mut vo, mut ao) = ([0.0; 3], [0.0; 3]);
-                    for (k, &m) in p.master.iter().enumerate() {
-                        let (vm, am) = (*ov.at(m), *oa.at(m));
-                        for i in 0..3 {
-                            vo[i] += p.weights[k] * vm[i];
-                            ao[i] += p.weights[k] * am[i];
-                        }
-                    }
+                    let (vo, ao) = (on_face(p, ov), on_face(p, oa));
                     *od.at(p.slave) = *u_ptr.at(p.slave);
                     *ov.at(p.slave) = vo;
                     *oa.at(p.slave) = ao;
@@ -144,6 +130,22 @@ pub(super) fn follow_masters(
             }
         }
     });
+}
+
+/// `sum_k w_k field[master_k]`: a nodal field interpolated at the slave's place on its face.
+///
+/// # Safety
+/// `field` points at a node array holding every master of `p`, which no other task writes.
+#[inline(always)]
+unsafe fn on_face(p: &TiePair, field: SharedMut<P3>) -> P3 {
+    let mut x = [0.0; 3];
+    for (k, &m) in p.master.iter().enumerate() {
+        let xm = *field.at(m);
+        for i in 0..3 {
+            x[i] += p.weights[k] * xm[i];
+        }
+    }
+    x
 }
 
 #[cfg(test)]
