@@ -3,8 +3,9 @@
 //! (`crate::explicit::levels`, `crate::explicit::multirate`), chosen automatically by default.
 //!
 //! The automatic choice (`"multi_rate": "auto"`) is made on the built model by
-//! `rolling::stepping`: subcycling when it saves enough element work to pay for its
-//! bookkeeping, and only where the contact surfaces carry the model's finest elements.
+//! `rolling::stepping`. Today it is always single rate: the engine's subcycling is
+//! resonance-unstable on some meshes (tests/explicit_multirate_stability.rs), so `auto` only
+//! plans the levels and reports what subcycling would save; `on` subcycles for study.
 
 use serde::{Deserialize, Serialize};
 
@@ -14,10 +15,12 @@ use crate::{Error, Result};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MultiRateMode {
-    /// Multi-rate when it pays (`rolling::stepping`), single rate otherwise.
+    /// The engine decides (`rolling::stepping`): today single rate, with the levels planned
+    /// and reported.
     #[default]
     Auto,
-    /// Always multi-rate; an error if the contact surfaces do not carry the finest elements.
+    /// Always multi-rate (experimental: not stable on every mesh); an error if the contact
+    /// surfaces do not carry the finest elements.
     On,
     /// Single rate: every element at the smallest stable step (the reference).
     Off,
