@@ -5,6 +5,7 @@
 //! balance holds over a long run; a falling bar's levels fall together; and the result does
 //! not depend on the thread count.
 
+use squeal::explicit::levels::{LevelScheme, COURANT_FACTOR};
 use squeal::explicit::{Formulation, Model, NoAux, Solver};
 use squeal::material::Material;
 use squeal::mesh::cuboid;
@@ -71,10 +72,18 @@ fn kinetic(s: &Solver, from: f64, to: f64) -> f64 {
         .sum()
 }
 
+/// Levels with the coarse ones at their elements' own stable step (the engine's rule before
+/// 2026-11-26): the 4 mm elements at level 2, so that the interface spans two levels. These
+/// tests check the interface's transmission, bookkeeping and restart, which do not depend on
+/// the rule; its stability over long runs is tests/explicit_multirate_stability.rs's.
+fn own_step_levels(max_levels: usize) -> LevelScheme {
+    LevelScheme::binary(max_levels).with_coarse_courant(COURANT_FACTOR)
+}
+
 fn solver(multi_rate: bool) -> Solver {
     let mut s = Solver::new(bar(), None).unwrap();
     if multi_rate {
-        let p = s.enable_multi_rate(8, &[]).unwrap();
+        let p = s.enable_multi_rate_with(own_step_levels(8), &[]).unwrap();
         println!(
             "levels: elements per level {:?}, element work {:.3} of single rate",
             p.counts, p.element_work_fraction
@@ -295,7 +304,7 @@ fn a_falling_bar_falls_together_across_the_levels() {
     model.fixed.iter_mut().for_each(|f| *f = 0);
     model.gravity_m_per_s2 = [0.0, 0.0, -9.81];
     let mut s = Solver::new(model, None).unwrap();
-    s.enable_multi_rate(8, &[]).unwrap();
+    s.enable_multi_rate_with(own_step_levels(8), &[]).unwrap();
     let cycle = s.multi_rate().unwrap().full_cycle_steps();
     let steps = 100 * cycle;
     for _ in 0..steps {
@@ -406,7 +415,7 @@ fn a_spinning_bar_moves_energy_across_the_levels_and_each_level_balances() {
     model.fixed.iter_mut().for_each(|f| *f = 0);
     let mut s = Solver::new(model, None).unwrap();
     s.set_initial_velocity(None, [0.0; 3], [0.0, 0.0, 300.0], [0.3, 0.005, 0.005]);
-    s.enable_multi_rate(8, &[]).unwrap();
+    s.enable_multi_rate_with(own_step_levels(8), &[]).unwrap();
     let cycle = s.multi_rate().unwrap().full_cycle_steps();
     let (mut worst_coarse, mut first_share, mut last_share) = (0.0f64, None, 0.0);
     for k in 0..40_000u64 {

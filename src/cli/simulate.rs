@@ -60,8 +60,8 @@ pub struct SimulateArgs {
     pub quiet: bool,
     /// Multi-rate (subcycled) stepping of the rolling run: elements at power-of-two multiples
     /// of the finest step by their own stable steps, the contact's nodes at the finest
-    /// (docs/rolling.md). Experimental: resonance-unstable on some meshes. Without this or
-    /// --single-rate the case's `time_stepping` decides (`auto` by default: single rate).
+    /// (docs/rolling.md). Without this or --single-rate the case's `time_stepping` decides
+    /// (automatic by default: multi-rate where it saves enough element work).
     #[arg(long, conflicts_with = "single_rate")]
     pub multi_rate: bool,
     /// Single-rate stepping: every element at the smallest stable step (the reference).

@@ -3,8 +3,13 @@
 //! integration", CMAME 17/18, 1979: a nodal partition; LS-DYNA's subcycling likewise groups
 //! elements by powers of two of the smallest step).
 //!
-//! An element's own level is `floor(log2(t_e / t_min))`, `t_e` its stable step (transit time)
-//! and `t_min` the smallest over the model, capped at `max_levels - 1`. With a level ratio
+//! An element's own level is the largest k with `2^k dt <= c t_e` (at most `max_levels - 1`):
+//! `t_e` is its stable step (transit time), `dt = 0.9 t_min` the finest level's step
+//! ([`COURANT_FACTOR`] of the smallest transit) and `c` the scheme's `coarse_courant`, so
+//! `k = floor(log2(c t_e / (0.9 t_min)))`, and 0 where that is negative. With `c = 0.9` a
+//! coarse level steps its elements at their own stable step (the rule before 2026-11-26); the
+//! engine's schemes use [`STABLE_COARSE_COURANT`] = 0.5, because the subcycled update resonates
+//! at the elements' own steps ([`STABLE_COARSE_COURANT`] gives the measurements). With a level ratio
 //! `r = 2^p` above 2 ([`LevelScheme`]) only every p-th of these binary levels is used: the own level
 //! is rounded down to a multiple of p, so neighbouring levels step `r` times apart. A node
 //! moves at the finest level among its elements, and an element is updated as often as its
@@ -24,8 +29,9 @@ use rayon::prelude::*;
 
 use super::batch::{add_block_forces, ElementBatch};
 use super::colour::SharedMut;
+pub use crate::mesh::quality::COURANT_FACTOR;
 use crate::mesh::P3;
-pub use crate::model::time_stepping::{LevelScheme, MAX_BINARY_LEVELS};
+pub use crate::model::time_stepping::{LevelScheme, MAX_BINARY_LEVELS, STABLE_COARSE_COURANT};
 
 /// The levels of a model.
 #[derive(Clone, Debug, PartialEq)]
@@ -82,7 +88,8 @@ pub fn partition_with(
     let own: Vec<u8> = transit_s
         .iter()
         .map(|&t| {
-            let ratio = (t / finest_step_s).max(1.0);
+            // 2^k dt <= c t_e with dt = COURANT_FACTOR t_min (module docs).
+            let ratio = (t / finest_step_s * scheme.coarse_courant / COURANT_FACTOR).max(1.0);
             // 1e-12: an element exactly at 2^k t_min stays at level k despite rounding.
             let binary = (ratio.log2() + 1e-12).floor().min((max_levels - 1) as f64) as usize;
             (binary / step * step) as u8
@@ -313,7 +320,8 @@ mod tests {
 
     #[test]
     fn levels_follow_the_finest_neighbour_and_the_work_fraction_counts_them() {
-        let transits = [1.0, 2.0, 4.0, 8.0, 8.0, 8.0, 8.0, 8.0];
+        // Level k >= 1 needs a transit of 2^k x 0.9 / 0.5 = 1.8 x 2^k the smallest.
+        let transits = [1.0, 3.6, 7.2, 14.4, 14.4, 14.4, 14.4, 14.4];
         let (elements, nodes) = bar(&transits);
         let p = partition(&elements, &transits, nodes, &[], 8);
         // Element i shares its first four nodes with element i-1: levels 0, 0, 1, 2, 3, 3, 3, 3.
@@ -329,6 +337,47 @@ mod tests {
         assert_eq!((p.counts.clone(), p.element_work_fraction), (vec![8], 1.0));
     }
 
+    /// Every element of a level k >= 1 has `2^k dt <= coarse_courant x t_e` (dt = 0.9 of the
+    /// smallest transit), and the largest such k: checked on transits around the thresholds;
+    /// with the elements' own step (0.9) the historic `floor(log2(t_e / t_min))`; and a
+    /// `coarse_courant` outside (0, 0.9] refused naming the field.
+    #[test]
+    fn coarse_levels_keep_their_share_of_the_stable_step() {
+        let transits = [1.0, 1.79, 1.81, 3.59, 3.61, 7.21, 14.5, 30.0];
+        // One element per bar, so that no neighbour pulls a level down.
+        let elements: Vec<[usize; 8]> = (0..transits.len())
+            .map(|e| std::array::from_fn(|a| 8 * e + a))
+            .collect();
+        let nodes = 8 * transits.len();
+        for (c, expected) in [
+            (STABLE_COARSE_COURANT, vec![0, 0, 0, 0, 1, 2, 3, 4]),
+            (COURANT_FACTOR, vec![0, 0, 0, 1, 1, 2, 3, 4]),
+        ] {
+            let scheme = LevelScheme::binary(8).with_coarse_courant(c);
+            let p = partition_with(&elements, &transits, nodes, &[], scheme);
+            assert_eq!(p.element_level, expected, "coarse_courant {c}");
+            let dt = COURANT_FACTOR * 1.0;
+            for (e, &l) in p.element_level.iter().enumerate() {
+                let step = dt * f64::from(1u32 << l);
+                if l > 0 {
+                    assert!(step <= c * transits[e] * (1.0 + 1e-12), "element {e}");
+                }
+                assert!(
+                    2.0 * step > c * transits[e] || l == 0,
+                    "element {e} could be coarser"
+                );
+            }
+        }
+        for bad in [0.0, -0.5, 0.95, f64::NAN] {
+            let e = LevelScheme::binary(4)
+                .with_coarse_courant(bad)
+                .check("case.json", "time_stepping.")
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("time_stepping.coarse_courant"), "{e}");
+        }
+    }
+
     #[test]
     fn a_level_ratio_of_four_uses_every_second_binary_level() {
         let transits = [1.0, 2.0, 4.0, 8.0, 16.0, 16.0, 16.0, 16.0];
@@ -336,6 +385,7 @@ mod tests {
         let scheme = LevelScheme {
             max_levels: 8,
             ratio: 4,
+            coarse_courant: COURANT_FACTOR,
         };
         let p = partition_with(&elements, &transits, nodes, &[], scheme);
         // Own binary levels 0..4 rounded down to even: 0, 0, 2, 2, 4, 4, 4, 4; each element
@@ -348,6 +398,7 @@ mod tests {
         let two = LevelScheme {
             max_levels: 2,
             ratio: 4,
+            coarse_courant: COURANT_FACTOR,
         };
         let p = partition_with(&elements, &transits, nodes, &[], two);
         assert_eq!(p.element_level, vec![0, 0, 0, 2, 2, 2, 2, 2]);
@@ -364,6 +415,7 @@ mod tests {
             let e = LevelScheme {
                 max_levels: 4,
                 ratio,
+                coarse_courant: STABLE_COARSE_COURANT,
             }
             .check("case.json", "time_stepping.")
             .unwrap_err()
@@ -381,11 +433,13 @@ mod tests {
         let ok = LevelScheme {
             max_levels: 8,
             ratio: 4,
+            coarse_courant: COURANT_FACTOR,
         };
         assert!(ok.check("c", "").is_ok());
         let e = LevelScheme {
             max_levels: 9,
             ratio: 4,
+            coarse_courant: STABLE_COARSE_COURANT,
         }
         .check("c", "")
         .unwrap_err()
@@ -397,6 +451,7 @@ mod tests {
         let widest = LevelScheme {
             max_levels: 2,
             ratio: 32768,
+            coarse_courant: STABLE_COARSE_COURANT,
         };
         assert!(widest.check("c", "").is_ok());
     }

@@ -20,6 +20,15 @@
 //!
 //! A node's updates fall on the steps where `n mod 2^k = 0` of the solver's step count.
 //!
+//! Stability: the update is not stable at the elements' own stable steps. A coarse interface
+//! node samples its fine-rate elements' forces once per coarse step, the coupling is not
+//! symmetric in time, and at some ratios of the element sizes the fine side's fastest modes
+//! resonate with the coarse side's: the energy grows exponentially. The levels therefore step
+//! their elements at no more than half their own stable step
+//! ([`super::levels::STABLE_COARSE_COURANT`], with the measurements; the finest level at 0.9),
+//! with which no growth was found on any of the graded blocks of
+//! tests/explicit_multirate_stability.rs.
+//!
 //! Nodes that other parts of the engine move or load every step stay at level 0: tie slaves and
 //! masters, rigid-body nodes, prescribed nodes, spring and load nodes, and the caller's (the
 //! contact's slaves and master faces). The energy balance is exact bookkeeping at the steps where

@@ -9,12 +9,13 @@
 //! its contact zone stepped finer than its own elements need: the guard refuses a request for
 //! subcycling there (`on`), and `auto` runs it single rate.
 //!
-//! `auto` runs single rate. The engine's subcycling (a nodal partition with linear
-//! interpolation of the coarse nodes) is not stable in general: at some step ratios and element
-//! sizes it resonates and the energy grows exponentially (tests/explicit_multirate_stability.rs;
-//! the `paper` case 5 run multi-rate went unstable at 5.2 ms). `auto` still plans the levels
-//! and says what subcycling would have saved; `on` subcycles anyway, for study, and says that
-//! it is experimental.
+//! `auto` subcycles when the planned partition's element work is at most
+//! [`AUTO_MAX_ELEMENT_WORK`] of single rate, so that the saving outweighs the levels'
+//! bookkeeping. The partition keeps the coarse levels at half their elements' stable step
+//! ([`crate::explicit::levels::STABLE_COARSE_COURANT`]): at their own step the subcycled update
+//! resonates (tests/explicit_multirate_stability.rs), which is what made the `paper` case 5 run
+//! multi-rate go unstable at 5.2 ms. With that margin none of the models in data/models saves
+//! enough for `auto` to subcycle (`paper` 0.894, `demo` 0.986 of the element work).
 
 use crate::explicit::levels::{partition_with, LevelPartition, LevelScheme};
 use crate::explicit::multirate::element_transits_s;
@@ -23,9 +24,13 @@ use crate::{Error, Result};
 
 use super::build::{RollingModel, StepLevels};
 
-/// Where the case of `auto` running single rate is made (docs/rolling.md, "Multi-rate").
-pub const SUBCYCLING_CAVEAT: &str = "subcycling is resonance-unstable on some meshes \
-     (tests/explicit_multirate_stability.rs, docs/rolling.md#multi-rate)";
+/// Largest element work, relative to single rate, at which `auto` subcycles. Measured in one
+/// session on 2 cores (docs/performance.md, 2026-11-26): the `paper` mesh, planned at 0.780,
+/// stepped 13-15 % faster multi-rate (elements 25.5 to 18.7 ms, the rest of the step 11.4 to
+/// 12.6 ms); the `demo` mesh, at 0.895, was no faster: its element saving (0.99 to 0.89 ms)
+/// was eaten by the levels' bookkeeping (0.80 to 0.94 ms), which puts its break-even near
+/// 0.86. 0.85 keeps `auto` on the side where subcycling was measured to win.
+pub const AUTO_MAX_ELEMENT_WORK: f64 = 0.85;
 
 /// The decision for one run.
 #[derive(Clone, Debug)]
@@ -113,21 +118,25 @@ pub fn choose_stepping(
     }
     let planned = m.solver.plan_multi_rate(scheme, &contact_nodes(m))?;
     let work = planned.element_work_fraction;
-    if mode == MultiRateMode::Auto {
+    if mode == MultiRateMode::Auto && work > AUTO_MAX_ELEMENT_WORK {
         return Ok(single(
             format!(
-                "single rate (auto: multi-rate would do {work:.3} of the element work, but \
-                 {SUBCYCLING_CAVEAT})"
+                "single rate (auto: multi-rate would do {work:.3} of the element work, above \
+                 {AUTO_MAX_ELEMENT_WORK})"
             ),
             Some(planned),
         ));
     }
+    let how = if mode == MultiRateMode::On {
+        format!("{by}: on")
+    } else {
+        format!("auto: {work:.3} of the element work, at most {AUTO_MAX_ELEMENT_WORK}")
+    };
     Ok(SteppingChoice {
         scheme,
         multi_rate: true,
         reason: format!(
-            "multi-rate, {} levels {}x apart ({by}: on; {work:.3} of the element work; \
-             experimental: {SUBCYCLING_CAVEAT})",
+            "multi-rate, {} levels {}x apart ({how})",
             planned.counts.iter().filter(|&&c| c > 0).count(),
             scheme.ratio
         ),
