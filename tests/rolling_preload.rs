@@ -9,6 +9,7 @@ use squeal::model::case::PreloadMethod;
 use squeal::rolling::{load_case, simulate, LoadedCase, SimulateOptions, StopFlag};
 use squeal::table::Table;
 
+#[allow(dead_code)] // the helpers this file does not use
 mod tiny_case;
 use tiny_case::{column, edited_tiny_case, refused_with, run_in_temp};
 

@@ -78,3 +78,14 @@ pub fn refused_with(dir: &Path, loaded: &squeal::rolling::case::LoadedCase, word
     assert!(!dir.join("out").join("contact_forces.csv").exists());
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// The contact forces and histories of the runs in `whole` and `split` are equal to the last
+/// digit (a resumed run against the uninterrupted one), and not trivially short.
+pub fn assert_same_outputs(whole: &Path, split: &Path) {
+    for f in ["contact_forces.csv", "histories.csv"] {
+        let a = std::fs::read_to_string(whole.join(f)).unwrap();
+        let b = std::fs::read_to_string(split.join(f)).unwrap();
+        assert!(a.lines().count() > 50, "{f} too short");
+        assert_eq!(a, b, "{f} differs after resume");
+    }
+}
