@@ -243,7 +243,7 @@ fn static_patch_at_1mm_matches_hertz() {
 /// The same static contact on a band fine only on a strip of the tread
 /// (`data/cases/static-hertz-strip.json`: `hertz-1mm-strip.json`, the 1 mm band fine from S =
 /// 15 to 42 mm and 5 mm deep, growing by 1.3 outside; 95 k elements instead of 251 k):
-/// the patch against Hertz with the same 10 % (about 10 minutes). Measured 2026-11-26 (a run
+/// the patch against Hertz with the same 10 % (239 s on the idle 2-core machine). Measured 2026-11-26 (a run
 /// of the case by `squeal simulate`, before this test existed): N 110.0 kN, a 8.60 mm, b 3.88 mm,
 /// peak 1620 MPa, 114 contact nodes, against 8.59 / 3.81 / 1620 on the uniform band.
 #[test]
