@@ -111,6 +111,10 @@ pub struct TrackSpec {
     /// zone (absent: the rail grows from the solution zone to the far size).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub running_zone: Option<SolutionZoneSpec>,
+    /// A finer block tied into the rail's running band where contact patches are resolved
+    /// (absent: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rail_insert: Option<crate::mesh::track::RailInsertSpec>,
     /// Sleepers and pads.
     pub sleeper: SleeperSpec,
 }
@@ -285,6 +289,15 @@ impl LoadedScenario {
                 t.length_m,
             )?;
         }
+        if let Some(ins) = &t.rail_insert {
+            ins.validate(
+                &c,
+                "track.rail_insert",
+                t.rail.running_surface_element_mm,
+                t.rail.section_element_mm,
+                t.length_m,
+            )?;
+        }
         let sl = &t.sleeper;
         c.within(
             "track.sleeper.width_m",
@@ -361,6 +374,7 @@ impl LoadedScenario {
             sleeper_divisions: t.sleeper.divisions,
             pad_thickness_m: t.sleeper.pad_thickness_mm * 1e-3,
             pad_length_m: t.sleeper.pad_length_mm * 1e-3,
+            rail_insert: t.rail_insert.clone(),
         }
     }
 

@@ -220,6 +220,7 @@ fn rail_54e1_section_properties() {
             &rail_section(RailSectionSizes {
                 running_surface_mm: h,
                 body_mm: h,
+                band_rows_at_least: 1,
             })
             .body,
         )

@@ -166,6 +166,7 @@ fn tread_band_keeps_the_time_step_of_the_contact_zone() {
             growth_ratio: 1.15,
             running_arc: None,
             fine_strip: None,
+            insert: None,
         };
         let mesh = wheel_mesh(&spec, Some(&band), &WheelPlacement::default());
         let q = mesh.quality(c_l);
@@ -249,6 +250,7 @@ fn running_arc_keeps_the_rolled_tread_at_its_medium_size() {
         growth_ratio: 1.15,
         running_arc: None,
         fine_strip: None,
+        insert: None,
     };
     let running = RunningArcSpec {
         element_size_mm: 6.0,
@@ -348,6 +350,7 @@ fn a_fine_strip_keeps_the_contact_path_fine_and_thins_the_band() {
         growth_ratio: growth,
         running_arc: None,
         fine_strip: None,
+        insert: None,
     };
     let strip_spec = FineStripSpec {
         s_min_mm: -15.0,
@@ -356,6 +359,7 @@ fn a_fine_strip_keeps_the_contact_path_fine_and_thins_the_band() {
     };
     let strip = TreadBandSpec {
         fine_strip: Some(strip_spec.clone()),
+        insert: None,
         ..uniform.clone()
     };
     strip.validate("model.json", "tread_band", &spec).unwrap();

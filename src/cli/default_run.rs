@@ -178,6 +178,7 @@ fn write_section_charts(loaded: &LoadedScenario, out_dir: &Path) -> Result<()> {
     let rail = rail_section(RailSectionSizes {
         running_surface_mm: t.running_surface_element_mm,
         body_mm: t.section_element_mm,
+        band_rows_at_least: 1,
     });
     let mut series = quad_mesh_series(&rail.body.nodes, &rail.body.quads, 0, "rail body");
     if let Some(band) = &rail.band {

@@ -172,6 +172,7 @@ pub fn run(args: ProfileArgs) -> Result<()> {
                 let mesh = squeal::mesh::rail::rail_section(squeal::mesh::rail::RailSectionSizes {
                     running_surface_mm: args.section_mm,
                     body_mm: args.section_mm,
+                    band_rows_at_least: 1,
                 });
                 let p = squeal::fem::section_properties::section_properties(&mesh.body)?;
                 println!(

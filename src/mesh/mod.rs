@@ -5,12 +5,15 @@
 pub mod distribute;
 pub mod gmsh;
 pub mod hex;
+pub mod insert;
 pub mod pvd;
 pub mod quality;
 pub mod rail;
+pub mod rail_insert;
 pub mod section;
 pub mod tie;
 pub mod track;
+pub mod tread_insert;
 pub mod volume;
 pub mod volume_io;
 pub mod vtk_cells;

@@ -19,6 +19,9 @@ pub struct RailSectionSizes {
     pub running_surface_mm: f64,
     /// Element size in the web and foot.
     pub body_mm: f64,
+    /// Fewest rows in the running band (1 unless an insert needs a row under it: the insert
+    /// leaves the band's bottom row, which is tied to the head, in place).
+    pub band_rows_at_least: usize,
 }
 
 /// Half-width of the finely meshed crown band (mm): wheel contact on the paper's cases stays
@@ -70,6 +73,32 @@ pub struct RailSection {
     pub body: SectionMesh,
     /// Running band over the crown (tags `running_surface`, `band_interface`).
     pub band: Option<SectionMesh>,
+    /// The band's map from grid parameters to section points, for an insert.
+    pub band_map: Option<RailBandMap>,
+}
+
+/// The running band's structured grid: column `i` at fraction `i / columns` along the crown
+/// (from the field side, `y = +BANDED_CROWN_HALF_WIDTH_MM`, to the gauge side), row `k` at ring
+/// fraction `ring_fraction * k / rows` under it (row 0 on the running surface).
+pub struct RailBandMap {
+    head: OGrid,
+    /// Column cells.
+    pub columns: usize,
+    /// Row cells.
+    pub rows: usize,
+    /// Ring fraction of the band's bottom.
+    pub ring_fraction: f64,
+    /// The band's depth at the crown's centre (mm).
+    pub depth_mm: f64,
+    /// Length of the crown along the band (mm).
+    pub width_mm: f64,
+}
+
+impl RailBandMap {
+    /// Section point (y, z in mm) at fraction `t` along the crown and ring fraction `s`.
+    pub fn point(&self, t: f64, s: f64) -> P2 {
+        self.head.point(2, t, s)
+    }
 }
 
 /// Build the rail section mesh (see [`RailSection`]).
@@ -223,6 +252,7 @@ pub fn rail_section(sizes: RailSectionSizes) -> RailSection {
         .map(|i| og.ring[i][0])
         .collect();
     mesh.tag("running_surface", body_running);
+    let mut band_map = None;
     let band = banded.then(|| {
         let mut iface: Vec<usize> = (a2..=a3).map(|i| og.ring[i][1]).collect();
         iface.extend([og.ring[a2][0], og.ring[a3][0]]);
@@ -231,7 +261,8 @@ pub fn rail_section(sizes: RailSectionSizes) -> RailSection {
         let n_t = distribute::count_at_least(head.sides[2].length(), h_fine).max(2);
         let (o, c) = head.outline_and_core(2, 0.5);
         let depth = s_band * (o[0] - c[0]).hypot(o[1] - c[1]);
-        let n_rows = distribute::count_at_least(depth, h_fine);
+        let n_rows = distribute::count_at_least(depth, h_fine).max(sizes.band_rows_at_least);
+        band_map = Some((n_t, n_rows, s_band, depth, head.sides[2].length()));
         let grid: Vec<Vec<P2>> = (0..=n_t)
             .map(|i| {
                 (0..=n_rows)
@@ -335,7 +366,21 @@ pub fn rail_section(sizes: RailSectionSizes) -> RailSection {
     // Smooth the body; nodes on the band interface stay put (they are boundary nodes of the
     // body once the band's cells are left out).
     mesh.smooth(20);
-    RailSection { body: mesh, band }
+    let band_map = band_map.map(
+        |(columns, rows, ring_fraction, depth_mm, width_mm)| RailBandMap {
+            head,
+            columns,
+            rows,
+            ring_fraction,
+            depth_mm,
+            width_mm,
+        },
+    );
+    RailSection {
+        body: mesh,
+        band,
+        band_map,
+    }
 }
 
 /// Part id used in rail sections.

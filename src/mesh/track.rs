@@ -7,6 +7,8 @@ use serde::Serialize;
 
 use super::distribute;
 use super::rail::{rail_section, RailSectionSizes};
+use super::rail_insert;
+pub use super::rail_insert::RailInsertSpec;
 use super::section::SectionMesh;
 use super::{material, Mesh, P3};
 use crate::geometry::rail54e1;
@@ -56,6 +58,8 @@ pub struct TrackLayout {
     pub pad_thickness_m: f64,
     /// Rail pad length along x (m).
     pub pad_length_m: f64,
+    /// A finer block tied into the rail's running band (None: none).
+    pub rail_insert: Option<RailInsertSpec>,
 }
 
 /// A stretch of rail with its own element length along x.
@@ -170,12 +174,19 @@ pub fn track_mesh(layout: &TrackLayout) -> Mesh {
     let section = rail_section(RailSectionSizes {
         running_surface_mm: layout.running_surface_element_mm,
         body_mm: layout.section_element_mm,
+        band_rows_at_least: if layout.rail_insert.is_some() { 2 } else { 1 },
     });
     let mut mesh = match &section.band {
         None => extrude(&section.body, &rail_stations(layout), layout),
         Some(band) => {
             let mut body = extrude(&section.body, &rail_body_stations(layout), layout);
-            let band_mesh = extrude(band, &rail_stations(layout), layout);
+            let stations = rail_stations(layout);
+            let mut band_mesh = extrude(band, &stations, layout);
+            // The insert's hole is cut while the band's elements are in the swept order.
+            let insert = layout.rail_insert.as_ref().map(|ins| {
+                let map = section.band_map.as_ref().expect("band map with the band");
+                rail_insert::cut(&mut band_mesh, ins, map, &stations, layout)
+            });
             let offset = body.nodes.len();
             body.append(band_mesh);
             body.orient_elements();
@@ -206,6 +217,10 @@ pub fn track_mesh(layout: &TrackLayout) -> Mesh {
                 &slaves,
                 &masters,
             ));
+            if let Some((walls, block)) = insert {
+                let walls: Vec<[usize; 4]> = walls.iter().map(|f| f.map(|n| n + offset)).collect();
+                super::insert::tie_insert(&mut body, &walls, block, "rail_insert");
+            }
             body
         }
     };

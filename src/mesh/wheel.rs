@@ -18,7 +18,8 @@ use serde::{Deserialize, Serialize};
 
 use super::distribute;
 use super::section::{OGrid, Polyline, SectionMesh};
-use super::{material, tie, Mesh, P3};
+pub use super::tread_insert::TreadInsertSpec;
+use super::{material, tie, tread_insert, Mesh, P3};
 use crate::geometry::s1002;
 use crate::geometry::wheel::{axle_radius_mm, WheelSpec};
 use crate::input::Checker;
@@ -46,6 +47,10 @@ pub struct TreadBandSpec {
     /// fine across the whole tread and over the band's depth).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fine_strip: Option<FineStripSpec>,
+    /// A finer block tied into the band where contact patches are resolved (absent: none); see
+    /// [`TreadInsertSpec`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub insert: Option<TreadInsertSpec>,
 }
 
 /// A strip of the tread, across the rolling direction, where the band's section keeps its fine
@@ -88,7 +93,7 @@ pub struct RunningArcSpec {
 }
 
 /// `angle_deg` wrapped into (-180, 180].
-fn wrap_deg(angle_deg: f64) -> f64 {
+pub(super) fn wrap_deg(angle_deg: f64) -> f64 {
     let a = angle_deg.rem_euclid(360.0);
     if a > 180.0 {
         a - 360.0
@@ -149,6 +154,9 @@ impl TreadBandSpec {
                 self.element_size_mm,
                 wheel.nominal_radius_mm - wheel.rim_inner_radius_mm,
             )?;
+        }
+        if let Some(insert) = &self.insert {
+            insert.validate(&c, &format!("{field}.insert"), self)?;
         }
         if let Some(run) = &self.running_arc {
             let f = format!("{field}.running_arc");
@@ -219,6 +227,9 @@ pub struct WheelSection {
     pub body: SectionMesh,
     /// Tread band section, if any.
     pub band: Option<SectionMesh>,
+    /// The band section's columns (S, mm) and rows (fractions of the rim depth from the rim
+    /// bottom, as the tread block's rows): its structured grid, for an insert.
+    pub band_grid: Option<(Vec<f64>, Vec<f64>)>,
     /// Axle core parameter per body node (None: on an exact circle).
     pub axle_eta: BTreeMap<usize, f64>,
     /// Axle stations (S, mm).
@@ -506,10 +517,18 @@ pub fn mesh_section(spec: &WheelSpec, band: Option<&TreadBandSpec>) -> WheelSect
     }
 
     // ---- Tread band (separate section mesh over side 2, fine).
+    let mut band_grid = None;
     let band_section = band.map(|b| {
         let mut m = SectionMesh::new(tol);
         let v_b = row_v[n_rows - band_rows_in_body];
         let (columns_s, row_fractions) = band_stations(b, root, band_end, (1.0 - v_b) * depth, h);
+        band_grid = Some((
+            columns_s.clone(),
+            row_fractions
+                .iter()
+                .map(|f| v_b + (1.0 - v_b) * f)
+                .collect(),
+        ));
         let (n_axial, n_band_rows) = (columns_s.len() - 1, row_fractions.len() - 1);
         let grid: Vec<Vec<[f64; 2]>> = columns_s
             .iter()
@@ -539,6 +558,7 @@ pub fn mesh_section(spec: &WheelSpec, band: Option<&TreadBandSpec>) -> WheelSect
     WheelSection {
         body,
         band: band_section,
+        band_grid,
         axle_eta,
         axle_stations_mm,
         quad_in_inner_zone,
@@ -591,7 +611,7 @@ fn band_stations(
 }
 
 /// Point of the section (S, r in mm) revolved to angle theta, in metres.
-fn revolve_point(placement: &WheelPlacement, s_mm: f64, r_mm: f64, theta: f64) -> P3 {
+pub(super) fn revolve_point(placement: &WheelPlacement, s_mm: f64, r_mm: f64, theta: f64) -> P3 {
     let c = placement.tape_circle_centre_m;
     let r = r_mm * 1e-3;
     [
@@ -703,7 +723,13 @@ pub fn wheel_mesh(
     if let Some(band_section) = &section.band {
         let band_spec = band.expect("band section implies band spec");
         let angles = band_angles(band_spec, spec.nominal_radius_mm, n);
-        let band_mesh = revolve(band_section, &angles, placement, |_| true, |_, _, _| None);
+        let mut band_mesh = revolve(band_section, &angles, placement, |_| true, |_, _, _| None);
+        // The insert's hole is cut before the band joins the body (the band's element order is
+        // the swept grid's there).
+        let insert = band_spec.insert.as_ref().map(|_| {
+            let grid = section.band_grid.as_ref().expect("band grid with the band");
+            tread_insert::cut(&mut band_mesh, band_spec, spec, grid, &angles, placement)
+        });
         let offset = body.nodes.len();
         body.append(band_mesh);
         body.orient_elements();
@@ -722,6 +748,10 @@ pub fn wheel_mesh(
         });
         let tie = tie::build("tread_band", &body.nodes, &slaves, &masters);
         body.ties.push(tie);
+        if let Some((walls, block)) = insert {
+            let walls: Vec<[usize; 4]> = walls.iter().map(|f| f.map(|n| n + offset)).collect();
+            super::insert::tie_insert(&mut body, &walls, block, "tread_insert");
+        }
     }
     body.surface_from_node_set("tread", "tread", None);
     body

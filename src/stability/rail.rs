@@ -766,6 +766,7 @@ pub fn pad_roll_arm_m(layout: &crate::mesh::track::TrackLayout) -> f64 {
     let section = rail_section(RailSectionSizes {
         running_surface_mm: layout.running_surface_element_mm,
         body_mm: layout.section_element_mm,
+        band_rows_at_least: 1,
     });
     let foot = section
         .body
