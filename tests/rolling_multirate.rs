@@ -315,3 +315,54 @@ fn a_subcycled_rolling_run_resumes_as_it_ran() {
     tiny_case::assert_same_outputs(&base.join("whole"), &base.join("split"));
     let _ = std::fs::remove_dir_all(&base);
 }
+
+/// A run resumed in the other stepping mode keeps one energy table: the header holds the
+/// columns of both modes (the level columns of the subcycled part), every row has the header's
+/// field count, and the rows of the single-rate part leave the level columns empty. Both
+/// directions: single rate then multi-rate, and multi-rate then single rate.
+#[test]
+fn a_run_resumed_in_the_other_stepping_mode_keeps_one_energy_table() {
+    let loaded = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
+    let base = std::env::temp_dir().join(format!("squeal_mode_resume_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    for (dir, first, then) in [
+        ("single_then_multi", MultiRateMode::Off, MultiRateMode::On),
+        ("multi_then_single", MultiRateMode::On, MultiRateMode::Off),
+    ] {
+        let opts = |mode: MultiRateMode, resume: bool, end: Option<f64>| SimulateOptions {
+            resume,
+            end_time_s: end,
+            multi_rate: Some(mode),
+            ..SimulateOptions::new(base.join(dir))
+        };
+        simulate(&loaded, &opts(first, false, Some(0.0005))).unwrap();
+        let resumed = simulate(&loaded, &opts(then, true, Some(0.001))).unwrap();
+        assert_eq!(resumed.run.status, "completed");
+        let text = std::fs::read_to_string(base.join(dir).join("energy.csv")).unwrap();
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let level = header
+            .iter()
+            .position(|c| *c == "kinetic_level0_j")
+            .unwrap_or_else(|| panic!("{dir}: no level columns in {header:?}"));
+        let (mut single, mut multi) = (0, 0);
+        for line in lines {
+            let fields: Vec<&str> = line.split(',').collect();
+            assert_eq!(fields.len(), header.len(), "{dir}: {line}");
+            let t: f64 = fields[0].parse().unwrap();
+            let subcycled = match first {
+                MultiRateMode::On => t < 0.0005 - 1e-12,
+                _ => t >= 0.0005 - 1e-12,
+            };
+            if subcycled {
+                assert!(fields[level].parse::<f64>().is_ok(), "{dir}: {line}");
+                multi += 1;
+            } else {
+                assert!(fields[level].is_empty(), "{dir}: {line}");
+                single += 1;
+            }
+        }
+        assert!(single > 0 && multi > 0, "{dir}: {single} / {multi} rows");
+    }
+    let _ = std::fs::remove_dir_all(&base);
+}

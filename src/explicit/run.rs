@@ -13,6 +13,7 @@
 // `!(x > 0.0)` is meant: it also rejects NaN.
 #![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
+use std::fmt::Write as _;
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
@@ -221,6 +222,24 @@ pub fn run<A: AuxForces + ?Sized>(
             .map_err(io(p))?;
         Ok(BufWriter::new(f))
     };
+    let mut energy_header = String::from(
+        "time_s,kinetic_j,strain_j,hourglass_j,spring_j,damping_j,contact_j,external_work_j,balance_error_j,balance_ratio,min_det_f",
+    );
+    // Multi-rate runs: where the energy sits, level by level (multirate.rs).
+    let levels = solver.multi_rate().map_or(0, |m| m.levels());
+    for k in 0..levels {
+        energy_header.push_str(&format!(",kinetic_level{k}_j,internal_level{k}_j"));
+    }
+    // ... and each level's energy balance (multirate.rs, "Energy by level").
+    for k in 0..levels {
+        energy_header.push_str(&format!(",balance_level{k}_j"));
+    }
+    // A run resumed in another stepping mode keeps one table: the columns of both.
+    let energy_columns = if append {
+        reconcile_csv_header(&energy_path, &energy_header)?
+    } else {
+        ColumnPlacement::identity(energy_header.split(',').count())
+    };
     let mut hist = open(&hist_path)?;
     let mut energy_csv = open(&energy_path)?;
     if !append {
@@ -234,18 +253,6 @@ pub fn run<A: AuxForces + ?Sized>(
             header.push_str(&c);
         }
         writeln!(hist, "{header}").map_err(io(&hist_path))?;
-        let mut energy_header = String::from(
-            "time_s,kinetic_j,strain_j,hourglass_j,spring_j,damping_j,contact_j,external_work_j,balance_error_j,balance_ratio,min_det_f",
-        );
-        // Multi-rate runs: where the energy sits, level by level (multirate.rs).
-        let levels = solver.multi_rate().map_or(0, |m| m.levels());
-        for k in 0..levels {
-            energy_header.push_str(&format!(",kinetic_level{k}_j,internal_level{k}_j"));
-        }
-        // ... and each level's energy balance (multirate.rs, "Energy by level").
-        for k in 0..levels {
-            energy_header.push_str(&format!(",balance_level{k}_j"));
-        }
         writeln!(energy_csv, "{energy_header}").map_err(io(&energy_path))?;
     }
     let total_steps = ((opts.end_time_s - solver.time_s) / solver.dt_s)
@@ -274,6 +281,8 @@ pub fn run<A: AuxForces + ?Sized>(
     snapshots.sort_by(f64::total_cmp);
     let mut next_snapshot = 0;
     let mut max_ratio: f64 = 0.0;
+    // One energy row, built then placed in the table's columns (allocated once).
+    let mut energy_row = String::with_capacity(512);
     let mut row = String::with_capacity(32 * (opts.probes.len() + 1));
     let mut failure: Option<Error> = None;
     let mut interrupted = false;
@@ -310,8 +319,9 @@ pub fn run<A: AuxForces + ?Sized>(
         if energy {
             if let Some(e) = solver.last_energy() {
                 max_ratio = max_ratio.max(e.balance_ratio);
+                energy_row.clear();
                 write!(
-                    energy_csv,
+                    energy_row,
                     "{},{},{},{},{},{},{},{},{},{},{}",
                     e.time_s,
                     e.kinetic_j,
@@ -325,16 +335,17 @@ pub fn run<A: AuxForces + ?Sized>(
                     e.balance_ratio,
                     e.min_det_f
                 )
-                .map_err(io(&energy_path))?;
+                .expect("writing to a String");
                 let levels = solver.level_energies().unwrap_or_default();
                 for level in &levels {
-                    write!(energy_csv, ",{},{}", level.kinetic_j, level.internal_j)
-                        .map_err(io(&energy_path))?;
+                    write!(energy_row, ",{},{}", level.kinetic_j, level.internal_j)
+                        .expect("writing to a String");
                 }
                 for error in solver.level_balance_errors(&levels).unwrap_or_default() {
-                    write!(energy_csv, ",{error}").map_err(io(&energy_path))?;
+                    write!(energy_row, ",{error}").expect("writing to a String");
                 }
-                writeln!(energy_csv).map_err(io(&energy_path))?;
+                let placed = energy_columns.place(&energy_row);
+                writeln!(energy_csv, "{placed}").map_err(io(&energy_path))?;
                 if let Err(err) = solver.check_state(&e, opts.balance_threshold) {
                     failure = Some(err);
                     break;
@@ -466,6 +477,83 @@ fn write_snapshot_collection(dir: &Path) -> Result<()> {
 }
 
 /// Drops the rows of a CSV whose first column exceeds `time_s` (for resume).
+/// Where a row's fields go in a table whose header may hold more columns than the row's writer
+/// knows (a run resumed in another stepping mode, [`reconcile_csv_header`]).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ColumnPlacement {
+    /// Column of each of the writer's fields.
+    positions: Vec<usize>,
+    /// Columns of the table.
+    width: usize,
+}
+
+impl ColumnPlacement {
+    fn identity(width: usize) -> Self {
+        ColumnPlacement {
+            positions: (0..width).collect(),
+            width,
+        }
+    }
+
+    /// The row (the writer's comma-separated fields) in the table's columns, empty where the
+    /// writer has no value.
+    pub(crate) fn place<'a>(&self, row: &'a str) -> std::borrow::Cow<'a, str> {
+        let identity = self.width == self.positions.len()
+            && self.positions.iter().enumerate().all(|(i, &p)| i == p);
+        if identity {
+            return std::borrow::Cow::Borrowed(row);
+        }
+        let mut cells = vec![""; self.width];
+        for (field, &p) in row.split(',').zip(&self.positions) {
+            cells[p] = field;
+        }
+        std::borrow::Cow::Owned(cells.join(","))
+    }
+}
+
+/// Makes the CSV table at `path` hold `header`'s columns: when its own header differs, the
+/// table's columns become its own followed by `header`'s new ones, the rows already written are
+/// padded with empty fields, and the returned placement puts a row written for `header` into
+/// them. Why: a run resumed in another stepping mode writes other per-level energy columns;
+/// one table with the union of both keeps every row readable under its header.
+pub(crate) fn reconcile_csv_header(path: &Path, header: &str) -> Result<ColumnPlacement> {
+    let wanted: Vec<&str> = header.split(',').collect();
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Ok(ColumnPlacement::identity(wanted.len()));
+    };
+    let mut lines = text.lines();
+    let Some(old_header) = lines.next() else {
+        return Ok(ColumnPlacement::identity(wanted.len()));
+    };
+    if old_header == header {
+        return Ok(ColumnPlacement::identity(wanted.len()));
+    }
+    let mut columns: Vec<&str> = old_header.split(',').collect();
+    let old_width = columns.len();
+    for c in &wanted {
+        if !columns.contains(c) {
+            columns.push(c);
+        }
+    }
+    let positions = wanted
+        .iter()
+        .map(|c| columns.iter().position(|x| x == c).expect("in the union"))
+        .collect();
+    let mut out = columns.join(",");
+    out.push('\n');
+    let pad = ",".repeat(columns.len() - old_width);
+    for line in lines {
+        out.push_str(line);
+        out.push_str(&pad);
+        out.push('\n');
+    }
+    std::fs::write(path, out).map_err(io(path))?;
+    Ok(ColumnPlacement {
+        positions,
+        width: columns.len(),
+    })
+}
+
 pub(crate) fn truncate_csv_after(path: &Path, time_s: f64) -> Result<()> {
     let Ok(f) = File::open(path) else {
         return Ok(());
