@@ -518,3 +518,59 @@ fn region_of_interest_search_matches_the_full_search_step_by_step() {
     assert!(touching > 0, "the block never touched the plate");
     assert!(u_full == u_region, "displacements differ");
 }
+
+/// A penalty per unit area (`ContactPair::use_area_penalty`, the cases' `penalty_length_mm`):
+/// a block pressed uniformly `g` into the plate carries `s K A g / L` over its bottom area `A`
+/// whatever its mesh (2 x 2 or 6 x 6 elements), where the faces' `s K A_f^2 / V` give a force
+/// that grows with the number of slave nodes (by 49 / 9 here). Exact to rounding: the
+/// tributary areas sum to the block's bottom, and every slave is `g` deep.
+#[test]
+fn an_area_penalty_carries_the_same_pressure_on_any_mesh() {
+    let (s, length_m, depth) = (0.1, 0.005, 1e-5);
+    let mut totals = Vec::new();
+    for divisions in [2, 6] {
+        let (mesh, slaves, faces, _) = common::block_on_plate(
+            [30, 10, 1],
+            [0.6, 0.2, 0.02],
+            [divisions, divisions, 1],
+            [0.05, 0.05, 0.02],
+            [0.1, 0.075],
+            2,
+        );
+        let mut u: Vec<P3> = vec![[0.0; 3]; mesh.nodes.len()];
+        for &n in &slaves {
+            u[n][2] = -depth;
+        }
+        let v = vec![[0.0; 3]; mesh.nodes.len()];
+        let mut by_law = Vec::new();
+        for area_law in [false, true] {
+            let mut pair = steel_pair(
+                &mesh,
+                slaves.clone(),
+                faces.clone(),
+                s,
+                FrictionLaw::Coulomb { mu: 0.3 },
+            );
+            if area_law {
+                pair.use_area_penalty(bulk_modulus(), length_m);
+            }
+            let mut force = vec![[0.0; 3]; mesh.nodes.len()];
+            pair.add_forces(0.0, 1e-7, &u, &v, &mut force);
+            by_law.push(pair.resultants().0[2]);
+        }
+        totals.push(by_law);
+    }
+    let expected = s * bulk_modulus() * 0.05 * 0.05 * depth / length_m;
+    for by_law in &totals {
+        assert!(
+            (by_law[1] / expected - 1.0).abs() < 1e-9,
+            "{} vs {expected}",
+            by_law[1]
+        );
+    }
+    let growth = totals[1][0] / totals[0][0];
+    assert!(
+        (growth - 49.0 / 9.0).abs() < 1e-6,
+        "segment penalty: {growth}"
+    );
+}

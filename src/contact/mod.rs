@@ -83,6 +83,9 @@ pub struct ContactPair {
     pub faces: Vec<[usize; 4]>,
     /// Penalty stiffness per face (N/m).
     pub face_stiffness_n_per_m: Vec<f64>,
+    /// Per slave: its own penalty `s K A_s / L` (N/m) when the pair uses a penalty per unit
+    /// area ([`ContactPair::use_area_penalty`]); None: the master faces' penalties.
+    pub slave_penalty_n_per_m: Option<Vec<f64>>,
     /// Friction law.
     pub friction: FrictionLaw,
     /// Per-slave state.
@@ -186,6 +189,7 @@ struct SlaveContext<'a> {
     grid: &'a BucketGrid,
     faces: &'a [[usize; 4]],
     face_stiffness_n_per_m: &'a [f64],
+    slave_penalty_n_per_m: Option<&'a [f64]>,
     slave_stiffness_cap: &'a [f64],
     friction: &'a FrictionLaw,
     search_margin_m: f64,
@@ -242,7 +246,13 @@ impl SlaveContext<'_> {
             }
             return ([0.0; 3], [0.0; 4], u32::MAX);
         };
-        let kf = self.face_stiffness_n_per_m[fi as usize].min(self.slave_stiffness_cap[k]);
+        let kf = penalty_of(
+            self.slave_penalty_n_per_m,
+            self.face_stiffness_n_per_m,
+            k,
+            fi as usize,
+        )
+        .min(self.slave_stiffness_cap[k]);
         let f_n = -kf * gap;
         // Tangential movement of the slave relative to the master point in the last step.
         let f = self.faces[fi as usize];
@@ -295,6 +305,15 @@ impl SlaveContext<'_> {
         };
         let total = [0, 1, 2].map(|d| f_n * n[d] + ft_new[d]);
         (total, w, fi)
+    }
+}
+
+/// The penalty of slave `k` on master face `face` (N/m): the slave's own under a penalty per
+/// unit area, else the face's `s K A^2 / V`.
+fn penalty_of(slave_penalty: Option<&[f64]>, face_stiffness: &[f64], k: usize, face: usize) -> f64 {
+    match slave_penalty {
+        Some(p) => p[k],
+        None => face_stiffness[face],
     }
 }
 
@@ -393,6 +412,7 @@ impl ContactPair {
             slave_area_m2: slave_area,
             faces,
             face_stiffness_n_per_m: stiffness,
+            slave_penalty_n_per_m: None,
             friction,
             state: vec![SlaveState::default(); n_slaves],
             penalty_scale,
@@ -418,8 +438,25 @@ impl ContactPair {
         Ok(pair)
     }
 
-    /// The stable-step bound `min sqrt(m_s / k)` over slaves (with the stiffest face, or the
-    /// slave's cap), given the engine's effective nodal masses.
+    /// Switches the pair to a penalty per unit area: slave `k` gets `s K A_k / L`, with its
+    /// tributary area `A_k`, the pair's scale `s`, the master's bulk modulus `K` and the length
+    /// `L` (m), whatever master face it meets (see `RollingCase::penalty_length_mm`).
+    pub fn use_area_penalty(&mut self, bulk_modulus_pa: f64, length_m: f64) {
+        let per_area = self.penalty_scale * bulk_modulus_pa / length_m;
+        self.slave_penalty_n_per_m =
+            Some(self.slave_area_m2.iter().map(|a| per_area * a).collect());
+    }
+
+    /// The stiffest penalty a slave can meet (N/m): its own, or the stiffest master face's.
+    fn stiffest_penalty(&self, k: usize, stiffest_face: f64) -> f64 {
+        match &self.slave_penalty_n_per_m {
+            Some(p) => p[k],
+            None => stiffest_face,
+        }
+    }
+
+    /// The stable-step bound `min sqrt(m_s / k)` over slaves (with the stiffest face or the
+    /// slave's own penalty, or the slave's cap), given the engine's effective nodal masses.
     pub fn time_step_bound_s(&self, mass_kg: &[f64]) -> f64 {
         let k_max = self
             .face_stiffness_n_per_m
@@ -428,7 +465,10 @@ impl ContactPair {
         self.slaves
             .iter()
             .enumerate()
-            .map(|(k, &n)| (mass_kg[n] / k_max.min(self.slave_stiffness_cap[k])).sqrt())
+            .map(|(k, &n)| {
+                let stiffest = self.stiffest_penalty(k, k_max);
+                (mass_kg[n] / stiffest.min(self.slave_stiffness_cap[k])).sqrt()
+            })
             .fold(f64::INFINITY, f64::min)
     }
 
@@ -459,7 +499,9 @@ impl ContactPair {
     /// scale asked for is not what the model computes. Requires the caps to be set.
     pub fn largest_penalty_scale(&self) -> f64 {
         let softest_face = self
-            .face_stiffness_n_per_m
+            .slave_penalty_n_per_m
+            .as_deref()
+            .unwrap_or(&self.face_stiffness_n_per_m)
             .iter()
             .fold(f64::INFINITY, |m, &k| m.min(k));
         let mut caps = self.slave_stiffness_cap.clone();
@@ -792,6 +834,7 @@ impl AuxForces for ContactPair {
             grid: &self.grid,
             faces: &self.faces,
             face_stiffness_n_per_m: &self.face_stiffness_n_per_m,
+            slave_penalty_n_per_m: self.slave_penalty_n_per_m.as_deref(),
             slave_stiffness_cap: &self.slave_stiffness_cap,
             friction: &self.friction,
             search_margin_m: self.search_margin_m,
@@ -870,7 +913,13 @@ impl AuxForces for ContactPair {
                 continue;
             }
             let face = self.faces[st.face as usize];
-            let kf = self.face_stiffness_n_per_m[st.face as usize].min(self.slave_stiffness_cap[k]);
+            let kf = penalty_of(
+                self.slave_penalty_n_per_m.as_deref(),
+                &self.face_stiffness_n_per_m,
+                k,
+                st.face as usize,
+            )
+            .min(self.slave_stiffness_cap[k]);
             out.push(RankOneStiffness {
                 stiffness_n_per_m: kf,
                 direction: st.normal,

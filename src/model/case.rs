@@ -185,6 +185,13 @@ pub struct RollingCase {
     pub friction: FrictionLaw,
     /// Penalty scale factor `s` in `k = s K A^2 / V`.
     pub penalty_scale: f64,
+    /// A penalty per unit area (mm): each slave's stiffness `s K A_s / L` from its tributary
+    /// area `A_s` and this length `L`, instead of the master face's `s K A^2 / V` (absent). Why:
+    /// per unit area the face's penalty is `s K / h` with `h` the master element's depth, so a
+    /// refined insert is stiffer than the band around it and the normal force jumps where the
+    /// wheel rolls onto it; with one `L` the contact's compliance is the same on both.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub penalty_length_mm: Option<f64>,
     /// Rayleigh mass-proportional damping of the run (1/s).
     #[serde(default)]
     pub mass_damping_per_s: f64,
@@ -361,6 +368,15 @@ impl RollingCase {
                 "penalty_scale",
                 format!("must lie in (0, 100] (got {})", self.penalty_scale),
             ));
+        }
+        if let Some(l) = self.penalty_length_mm {
+            if !(l >= 0.1 && l <= 100.0) {
+                return Err(Error::input(
+                    source,
+                    "penalty_length_mm",
+                    format!("must lie in [0.1, 100] mm (got {l})"),
+                ));
+            }
         }
         non_negative(source, "mass_damping_per_s", self.mass_damping_per_s)?;
         positive(source, "preload.damping_per_s", self.preload.damping_per_s)?;

@@ -166,6 +166,9 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         c.friction,
     )
     .map_err(|e| Error::input(&source, "penalty_scale / friction", e.to_string()))?;
+    if let Some(length_mm) = case.penalty_length_mm {
+        pair.use_area_penalty(c.bulk_modulus_pa, length_mm * 1e-3);
+    }
     let (mut model, axle, sprung_node) = engine_model(&mut d, &source)?;
     let wheelset_mass: f64 = d
         .wheelset_nodes
