@@ -303,3 +303,30 @@ fn the_paper_snapshots_of_case3_demo_inserts_fall_inside_its_inserts() {
     let early = x0 + v * 0.012;
     assert!(early + half_patch_m < rail.start_m);
 }
+
+/// A penalty length outside [0.1, 100] mm is refused naming the file and the field.
+#[test]
+fn a_penalty_length_out_of_range_is_refused_naming_the_field() {
+    let dir = std::env::temp_dir().join(format!("squeal_penalty_len_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let model = std::fs::canonicalize("data/models/demo-inserts.json").unwrap();
+    for bad in [0.01, 500.0] {
+        let mut case: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string("data/cases/case3-demo-inserts.json").unwrap(),
+        )
+        .unwrap();
+        case["model_scenario"] = model.display().to_string().into();
+        case["penalty_length_mm"] = bad.into();
+        let path = dir.join("case.json");
+        std::fs::write(&path, case.to_string()).unwrap();
+        let Err(e) = squeal::rolling::load_case(&path) else {
+            panic!("{bad} mm accepted");
+        };
+        let e = e.to_string();
+        assert!(
+            e.contains("case.json") && e.contains("penalty_length_mm"),
+            "{bad}: {e}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -370,7 +370,7 @@ impl RollingCase {
             ));
         }
         if let Some(l) = self.penalty_length_mm {
-            if !(l >= 0.1 && l <= 100.0) {
+            if !(0.1..=100.0).contains(&l) {
                 return Err(Error::input(
                     source,
                     "penalty_length_mm",
