@@ -155,6 +155,25 @@ impl Axis {
     }
 }
 
+/// Checks an insert's sizes against its band's element size `band_mm` (`field` names the insert
+/// in errors): the section size in [0.2, band], the length along the sweep in [size, band], the
+/// depth in [size, 100] mm.
+pub fn check_sizes(
+    c: &crate::input::Checker,
+    field: &str,
+    (size_mm, length_mm, depth_mm): (f64, f64, f64),
+    band_mm: f64,
+) -> crate::Result<()> {
+    c.within(&format!("{field}.element_size_mm"), size_mm, 0.2, band_mm)?;
+    c.within(
+        &format!("{field}.element_length_mm"),
+        length_mm,
+        size_mm,
+        band_mm,
+    )?;
+    c.within(&format!("{field}.depth_mm"), depth_mm, size_mm, 100.0)
+}
+
 /// How many parts of about `size` a length takes: `floor(1.1 length / size)`, at least 1, so
 /// that no part is shorter than `size / 1.1` (the insert's elements set the model's time step)
 /// and, for two parts or more, none longer than `1.36 size` (a 5 mm row at 2 mm: two 2.5 mm

@@ -58,18 +58,8 @@ impl RailInsertSpec {
                 )
             },
         )?;
-        c.within(
-            &format!("{field}.element_size_mm"),
-            self.element_size_mm,
-            0.2,
-            h_band,
-        )?;
-        c.within(
-            &format!("{field}.element_length_mm"),
-            self.element_length_mm,
-            self.element_size_mm,
-            h_band,
-        )?;
+        let sizes = (self.element_size_mm, self.element_length_mm, self.depth_mm);
+        insert::check_sizes(c, field, sizes, h_band)?;
         c.within(
             &format!("{field}.length_m"),
             self.length_m,
@@ -94,12 +84,6 @@ impl RailInsertSpec {
             self.y_max_mm,
             self.y_min_mm + self.element_size_mm,
             edge,
-        )?;
-        c.within(
-            &format!("{field}.depth_mm"),
-            self.depth_mm,
-            self.element_size_mm,
-            100.0,
         )
     }
 }

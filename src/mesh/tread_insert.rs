@@ -45,18 +45,8 @@ impl TreadInsertSpec {
     /// Check the insert against its band (`field` names it in errors).
     pub fn validate(&self, c: &Checker, field: &str, band: &TreadBandSpec) -> Result<()> {
         let h_band = band.element_size_mm;
-        c.within(
-            &format!("{field}.element_size_mm"),
-            self.element_size_mm,
-            0.2,
-            h_band,
-        )?;
-        c.within(
-            &format!("{field}.element_length_mm"),
-            self.element_length_mm,
-            self.element_size_mm,
-            h_band,
-        )?;
+        let sizes = (self.element_size_mm, self.element_length_mm, self.depth_mm);
+        insert::check_sizes(c, field, sizes, h_band)?;
         c.within(
             &format!("{field}.arc_width_deg"),
             self.arc_width_deg,
@@ -89,12 +79,6 @@ impl TreadInsertSpec {
             self.s_max_mm,
             self.s_min_mm + self.element_size_mm,
             s1002::S_CHAMFER_START_MM - h_band,
-        )?;
-        c.within(
-            &format!("{field}.depth_mm"),
-            self.depth_mm,
-            self.element_size_mm,
-            100.0,
         )
     }
 }
