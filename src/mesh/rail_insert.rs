@@ -6,8 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use super::insert::{self, pieces_of, Axis, BoxRange, SweptCells};
 use super::rail::{RailBandMap, BANDED_CROWN_HALF_WIDTH_MM};
-use super::track::{place_rail_point, TrackLayout};
-use super::{material, Mesh};
+use super::{material, Mesh, P3};
 use crate::input::Checker;
 use crate::Result;
 
@@ -89,14 +88,15 @@ impl RailInsertSpec {
 }
 
 /// Cut the insert's hole out of the extruded running band `band_mesh` (grid `map`, swept over
-/// `stations`) and build the insert. Returns the hole's walls (in `band_mesh`'s numbering) and
-/// the insert, for `insert::tie_insert` once the band has joined the rail.
+/// `stations`) and build the insert, its section point `(y, z)` at station `x` placed at
+/// `place([y, z], x)` (the track's inclination). Returns the hole's walls (in `band_mesh`'s
+/// numbering) and the insert, for `insert::tie_insert` once the band has joined the rail.
 pub(super) fn cut(
     band_mesh: &mut Mesh,
     ins: &RailInsertSpec,
     map: &RailBandMap,
     stations: &[f64],
-    layout: &TrackLayout,
+    place: impl Fn([f64; 2], f64) -> P3,
 ) -> (Vec<[usize; 4]>, Mesh) {
     let cells = SweptCells {
         columns: map.columns,
@@ -130,11 +130,7 @@ pub(super) fn cut(
         &t_axis,
         &s_axis,
         &x_axis,
-        |t, s, x| {
-            let p = map.point(t, s);
-            let [y, z] = place_rail_point(layout, p[0], p[1]);
-            [x, y, z]
-        },
+        |t, s, x| place(map.point(t, s), x),
         material::RAIL_BAND,
         0,
         "rail_running_surface",

@@ -185,7 +185,11 @@ pub fn track_mesh(layout: &TrackLayout) -> Mesh {
             // The insert's hole is cut while the band's elements are in the swept order.
             let insert = layout.rail_insert.as_ref().map(|ins| {
                 let map = section.band_map.as_ref().expect("band map with the band");
-                rail_insert::cut(&mut band_mesh, ins, map, &stations, layout)
+                let place = |p: [f64; 2], x: f64| {
+                    let [y, z] = place_rail_point(layout, p[0], p[1]);
+                    [x, y, z]
+                };
+                rail_insert::cut(&mut band_mesh, ins, map, &stations, place)
             });
             let offset = body.nodes.len();
             body.append(band_mesh);

@@ -5,8 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::insert::{self, pieces_of, Axis, BoxRange, SweptCells};
-use super::wheel::{revolve_point, wrap_deg, TreadBandSpec, WheelPlacement, FLANGE_ROOT_S_MM};
-use super::{material, Mesh};
+use super::{material, Mesh, P3};
 use crate::geometry::s1002;
 use crate::geometry::wheel::WheelSpec;
 use crate::input::Checker;
@@ -41,9 +40,33 @@ pub struct TreadInsertSpec {
     pub depth_mm: f64,
 }
 
+/// What an insert is checked against: its band's element size and fine arc, and where the
+/// band starts on the profile (the flange root).
+#[derive(Clone, Copy, Debug)]
+pub struct BandArc {
+    /// The band's element size (mm).
+    pub element_size_mm: f64,
+    /// Centre of the band's fine arc (degrees from the bottom point).
+    pub arc_centre_deg: f64,
+    /// Width of the band's fine arc (degrees).
+    pub arc_width_deg: f64,
+    /// S of the band's first column (mm).
+    pub flange_root_s_mm: f64,
+}
+
+/// `angle_deg` wrapped into (-180, 180].
+pub fn wrap_deg(angle_deg: f64) -> f64 {
+    let a = angle_deg.rem_euclid(360.0);
+    if a > 180.0 {
+        a - 360.0
+    } else {
+        a
+    }
+}
+
 impl TreadInsertSpec {
     /// Check the insert against its band (`field` names it in errors).
-    pub fn validate(&self, c: &Checker, field: &str, band: &TreadBandSpec) -> Result<()> {
+    pub fn validate(&self, c: &Checker, field: &str, band: &BandArc) -> Result<()> {
         let h_band = band.element_size_mm;
         let sizes = (self.element_size_mm, self.element_length_mm, self.depth_mm);
         insert::check_sizes(c, field, sizes, h_band)?;
@@ -71,7 +94,7 @@ impl TreadInsertSpec {
         c.within(
             &format!("{field}.s_min_mm"),
             self.s_min_mm,
-            FLANGE_ROOT_S_MM + h_band,
+            band.flange_root_s_mm + h_band,
             s1002::S_CHAMFER_START_MM - 2.0 * h_band,
         )?;
         c.within(
@@ -83,23 +106,20 @@ impl TreadInsertSpec {
     }
 }
 
-/// Cut `band`'s insert's hole out of the revolved band `band_mesh` (columns and rows `grid`, the
-/// band section's, swept over `angles`) and build the insert. Returns the hole's walls (in
-/// `band_mesh`'s numbering) and the insert, for `insert::tie_insert` once the band has joined
-/// the body.
+/// Cut the insert's hole out of the revolved band `band_mesh` (columns and rows `grid`, the
+/// band section's, swept over `angles`; its fine arc centred at `band_centre_deg`) and build the
+/// insert, its node `(S, r, theta)` at `place(S, r, theta)` (the band's revolution). Returns the
+/// hole's walls (in `band_mesh`'s numbering) and the insert, for `insert::tie_insert` once the
+/// band has joined the body.
 pub(super) fn cut(
     band_mesh: &mut Mesh,
-    band: &TreadBandSpec,
+    ins: &TreadInsertSpec,
+    band_centre_deg: f64,
     wheel: &WheelSpec,
     grid: &(Vec<f64>, Vec<f64>),
     angles: &[f64],
-    placement: &WheelPlacement,
+    place: impl Fn(f64, f64, f64) -> P3,
 ) -> (Vec<[usize; 4]>, Mesh) {
-    let ins = band
-        .insert
-        .as_ref()
-        .expect("cut is called for a band with an insert");
-    let band_centre_deg = band.arc_centre_deg;
     let (columns_s, rows_v) = grid;
     let cells = SweptCells {
         columns: columns_s.len() - 1,
@@ -133,7 +153,7 @@ pub(super) fn cut(
         &s,
         &v,
         &theta,
-        |s, v, th| revolve_point(placement, s, r_in + v * (r_top(s) - r_in), th),
+        |s, v, th| place(s, r_in + v * (r_top(s) - r_in), th),
         material::TREAD_BAND,
         surface_row,
         "tread",

@@ -19,6 +19,7 @@ use serde::{Deserialize, Serialize};
 use super::distribute;
 use super::section::{OGrid, Polyline, SectionMesh};
 pub use super::tread_insert::TreadInsertSpec;
+use super::tread_insert::{wrap_deg, BandArc};
 use super::{material, tie, tread_insert, Mesh, P3};
 use crate::geometry::s1002;
 use crate::geometry::wheel::{axle_radius_mm, WheelSpec};
@@ -92,16 +93,6 @@ pub struct RunningArcSpec {
     pub arc_width_deg: f64,
 }
 
-/// `angle_deg` wrapped into (-180, 180].
-pub(super) fn wrap_deg(angle_deg: f64) -> f64 {
-    let a = angle_deg.rem_euclid(360.0);
-    if a > 180.0 {
-        a - 360.0
-    } else {
-        a
-    }
-}
-
 fn default_growth() -> f64 {
     1.15
 }
@@ -156,7 +147,13 @@ impl TreadBandSpec {
             )?;
         }
         if let Some(insert) = &self.insert {
-            insert.validate(&c, &format!("{field}.insert"), self)?;
+            let arc = BandArc {
+                element_size_mm: self.element_size_mm,
+                arc_centre_deg: self.arc_centre_deg,
+                arc_width_deg: self.arc_width_deg,
+                flange_root_s_mm: FLANGE_ROOT_S_MM,
+            };
+            insert.validate(&c, &format!("{field}.insert"), &arc)?;
         }
         if let Some(run) = &self.running_arc {
             let f = format!("{field}.running_arc");
@@ -611,7 +608,7 @@ fn band_stations(
 }
 
 /// Point of the section (S, r in mm) revolved to angle theta, in metres.
-pub(super) fn revolve_point(placement: &WheelPlacement, s_mm: f64, r_mm: f64, theta: f64) -> P3 {
+fn revolve_point(placement: &WheelPlacement, s_mm: f64, r_mm: f64, theta: f64) -> P3 {
     let c = placement.tape_circle_centre_m;
     let r = r_mm * 1e-3;
     [
@@ -728,7 +725,10 @@ pub fn wheel_mesh(
         // the swept grid's there).
         let insert = band_spec.insert.as_ref().map(|_| {
             let grid = section.band_grid.as_ref().expect("band grid with the band");
-            tread_insert::cut(&mut band_mesh, band_spec, spec, grid, &angles, placement)
+            let ins = band_spec.insert.as_ref().expect("an insert");
+            let place = |s: f64, r: f64, th: f64| revolve_point(placement, s, r, th);
+            let centre_deg = band_spec.arc_centre_deg;
+            tread_insert::cut(&mut band_mesh, ins, centre_deg, spec, grid, &angles, place)
         });
         let offset = body.nodes.len();
         body.append(band_mesh);
