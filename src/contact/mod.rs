@@ -494,7 +494,8 @@ impl ContactPair {
 
     /// The largest penalty scale that the time step `dt_s` (after
     /// [`ContactPair::cap_stiffness_for_step`]) can carry: the scale at which the softest master
-    /// face's penalty `s K A^2 / V` reaches the median slave's cap `m_s / dt^2`. Above it, half
+    /// face's penalty `s K A^2 / V` (with a penalty per unit area, the softest slave's
+    /// `s K A_s / L`) reaches the median slave's cap `m_s / dt^2`. Above it, half
     /// the slaves or more get the cap against every master face, whatever the scale, so the
     /// scale asked for is not what the model computes. Requires the caps to be set.
     pub fn largest_penalty_scale(&self) -> f64 {

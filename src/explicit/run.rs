@@ -238,7 +238,7 @@ pub fn run<A: AuxForces + ?Sized>(
     let energy_columns = if append {
         reconcile_csv_header(&energy_path, &energy_header)?
     } else {
-        ColumnPlacement::identity(energy_header.split(',').count())
+        ColumnPlacement::AS_WRITTEN
     };
     let mut hist = open(&hist_path)?;
     let mut energy_csv = open(&energy_path)?;
@@ -481,30 +481,31 @@ fn write_snapshot_collection(dir: &Path) -> Result<()> {
 /// knows (a run resumed in another stepping mode, [`reconcile_csv_header`]).
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct ColumnPlacement {
-    /// Column of each of the writer's fields.
-    positions: Vec<usize>,
-    /// Columns of the table.
-    width: usize,
+    /// The column of each of the writer's fields and the table's width; None: the table's
+    /// columns are the writer's.
+    spread: Option<(Vec<usize>, usize)>,
 }
 
 impl ColumnPlacement {
-    fn identity(width: usize) -> Self {
+    /// Fields where the writer puts them.
+    const AS_WRITTEN: ColumnPlacement = ColumnPlacement { spread: None };
+
+    fn new(positions: Vec<usize>, width: usize) -> Self {
+        let as_written =
+            width == positions.len() && positions.iter().enumerate().all(|(i, &p)| i == p);
         ColumnPlacement {
-            positions: (0..width).collect(),
-            width,
+            spread: (!as_written).then_some((positions, width)),
         }
     }
 
     /// The row (the writer's comma-separated fields) in the table's columns, empty where the
     /// writer has no value.
     pub(crate) fn place<'a>(&self, row: &'a str) -> std::borrow::Cow<'a, str> {
-        let identity = self.width == self.positions.len()
-            && self.positions.iter().enumerate().all(|(i, &p)| i == p);
-        if identity {
+        let Some((positions, width)) = &self.spread else {
             return std::borrow::Cow::Borrowed(row);
-        }
-        let mut cells = vec![""; self.width];
-        for (field, &p) in row.split(',').zip(&self.positions) {
+        };
+        let mut cells = vec![""; *width];
+        for (field, &p) in row.split(',').zip(positions) {
             cells[p] = field;
         }
         std::borrow::Cow::Owned(cells.join(","))
@@ -519,14 +520,14 @@ impl ColumnPlacement {
 pub(crate) fn reconcile_csv_header(path: &Path, header: &str) -> Result<ColumnPlacement> {
     let wanted: Vec<&str> = header.split(',').collect();
     let Ok(text) = std::fs::read_to_string(path) else {
-        return Ok(ColumnPlacement::identity(wanted.len()));
+        return Ok(ColumnPlacement::AS_WRITTEN);
     };
     let mut lines = text.lines();
     let Some(old_header) = lines.next() else {
-        return Ok(ColumnPlacement::identity(wanted.len()));
+        return Ok(ColumnPlacement::AS_WRITTEN);
     };
     if old_header == header {
-        return Ok(ColumnPlacement::identity(wanted.len()));
+        return Ok(ColumnPlacement::AS_WRITTEN);
     }
     let mut columns: Vec<&str> = old_header.split(',').collect();
     let old_width = columns.len();
@@ -548,10 +549,7 @@ pub(crate) fn reconcile_csv_header(path: &Path, header: &str) -> Result<ColumnPl
         out.push('\n');
     }
     std::fs::write(path, out).map_err(io(path))?;
-    Ok(ColumnPlacement {
-        positions,
-        width: columns.len(),
-    })
+    Ok(ColumnPlacement::new(positions, columns.len()))
 }
 
 pub(crate) fn truncate_csv_after(path: &Path, time_s: f64) -> Result<()> {

@@ -723,9 +723,8 @@ pub fn wheel_mesh(
         let mut band_mesh = revolve(band_section, &angles, placement, |_| true, |_, _, _| None);
         // The insert's hole is cut before the band joins the body (the band's element order is
         // the swept grid's there).
-        let insert = band_spec.insert.as_ref().map(|_| {
+        let insert = band_spec.insert.as_ref().map(|ins| {
             let grid = section.band_grid.as_ref().expect("band grid with the band");
-            let ins = band_spec.insert.as_ref().expect("an insert");
             let place = |s: f64, r: f64, th: f64| revolve_point(placement, s, r, th);
             let centre_deg = band_spec.arc_centre_deg;
             tread_insert::cut(&mut band_mesh, ins, centre_deg, spec, grid, &angles, place)
