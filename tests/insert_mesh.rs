@@ -251,13 +251,17 @@ fn inserts_outside_their_bands_are_refused_naming_the_field() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// `case3-demo-inserts`' snapshots at the paper's instants (17.07 to 19.0 ms) fall inside both
+/// `case3-demo-inserts`' snapshots at the paper's instants (17.07 to 19.0 ms) and the
+/// saturation window after them (to 20.5 ms: the paper's 19 ms, the default run's 0.5 ms
+/// tolerance and a millisecond of the level the creep force settles at) fall inside both
 /// inserts with a patch's half-length to spare (10 mm: its patches there are 14 to 20 mm long),
 /// the wheel rolling at the case's speed from its start position (the contact point turns
-/// with the wheel by `x / R` on the tread). The 12 ms snapshot, before the inserts, is the
-/// report's coarse one.
+/// with the wheel by `x / R` on the tread). Inserts that ended at 19.5 ms made every
+/// calibration trial "saturate" where the contact rolled off them onto the 6 mm band
+/// (docs/operating-point.md). The 12 ms snapshot, before the inserts, is the report's coarse
+/// one.
 #[test]
-fn the_paper_snapshots_of_case3_demo_inserts_fall_inside_its_inserts() {
+fn the_paper_snapshots_and_the_saturation_of_case3_demo_inserts_fall_inside_its_inserts() {
     let case =
         squeal::rolling::load_case(Path::new("data/cases/case3-demo-inserts.json")).expect("case");
     let scenario = &case.scenario.scenario;
@@ -280,7 +284,8 @@ fn the_paper_snapshots_of_case3_demo_inserts_fall_inside_its_inserts() {
         .filter(|&t| (0.017..=0.0190001).contains(&t))
         .collect();
     assert_eq!(paper.len(), 5, "{paper:?}");
-    for t in paper {
+    let saturation_window = [0.0195, 0.020, 0.0205];
+    for t in paper.into_iter().chain(saturation_window) {
         let rolled_m = v * t;
         let x = x0 + rolled_m;
         assert!(
