@@ -54,6 +54,19 @@ fn assert_no_chained_ties(mesh: &Mesh) {
     }
 }
 
+/// An insert as a mesh refill: the volume `with` it equals the volume `without` it (1e-6), no
+/// element is inverted, no tie is chained, and its tie `tie` closes within 0.1 mm. Returns the
+/// insert's first node and the tie's largest offset (m).
+fn assert_tied_refill(with: &Mesh, (v1, v0): (f64, f64), tie: &str) -> (usize, f64) {
+    assert!((v1 - v0).abs() < 1e-6 * v0, "volume {v1} vs {v0}");
+    assert_eq!(with.quality(6000.0).inverted_elements, 0);
+    assert_no_chained_ties(with);
+    let found = with.ties.iter().find(|t| t.name == tie).unwrap();
+    let gap_m = found.max_gap_m();
+    assert!(gap_m < 1e-4, "gap {gap_m}");
+    (first_slave(with, tie), gap_m)
+}
+
 /// Every insert element's edges lie between a third of the insert's size (the band's rows and
 /// columns split into whole parts: a 6.7 mm band row at 2.2 mm, a 5 mm rail band row at 1.7 mm)
 /// and the size plus the 10 % the part counts allow (`insert::pieces_of`) plus 2 % for curved
@@ -87,13 +100,8 @@ fn a_tread_insert_refills_its_box_at_its_size_on_the_profile() {
         ..band.clone()
     };
     let without = wheel_mesh(&loaded.wheel, Some(&plain), &placement);
-    let (v1, v0) = (with.volume(), without.volume());
-    assert!((v1 - v0).abs() < 1e-6 * v0, "volume {v1} vs {v0}");
-    assert_eq!(with.quality(6000.0).inverted_elements, 0);
-    assert_no_chained_ties(&with);
-    let tie = with.ties.iter().find(|t| t.name == "tread_insert").unwrap();
-    assert!(tie.max_gap_m() < 1e-4, "gap {}", tie.max_gap_m());
-    let first = first_slave(&with, "tread_insert");
+    let (first, gap_m) =
+        assert_tied_refill(&with, (with.volume(), without.volume()), "tread_insert");
     let elements = insert_elements(&with, first, with.nodes.len());
     assert_edges_near(&with, &elements, ins.element_size_mm * 1e-3);
     println!(
@@ -101,7 +109,7 @@ fn a_tread_insert_refills_its_box_at_its_size_on_the_profile() {
         with.elements.len(),
         elements.len(),
         without.elements.len(),
-        tie.max_gap_m() * 1e6
+        gap_m * 1e6
     );
     // Tread nodes of the insert: on the profile, spanning the asked S range and arc.
     let c = placement.tape_circle_centre_m;
@@ -158,14 +166,12 @@ fn a_rail_insert_refills_its_box_at_its_size_on_the_crown() {
         let v = m.volume_by_material();
         v[&material::RAIL] + v[&material::RAIL_BAND]
     };
-    let (v1, v0) = (rail_volume(&with), rail_volume(&without));
-    assert!((v1 - v0).abs() < 1e-6 * v0, "volume {v1} vs {v0}");
-    assert_eq!(with.quality(6000.0).inverted_elements, 0);
-    assert_no_chained_ties(&with);
-    let tie = with.ties.iter().find(|t| t.name == "rail_insert").unwrap();
-    assert!(tie.max_gap_m() < 1e-4, "gap {}", tie.max_gap_m());
+    let (first, gap_m) = assert_tied_refill(
+        &with,
+        (rail_volume(&with), rail_volume(&without)),
+        "rail_insert",
+    );
     // The sleepers are appended after the rail and its insert.
-    let first = first_slave(&with, "rail_insert");
     let end = (0..with.elements.len())
         .filter(|&e| with.material[e] == material::SLEEPER)
         .flat_map(|e| with.elements[e])
@@ -177,7 +183,7 @@ fn a_rail_insert_refills_its_box_at_its_size_on_the_crown() {
         "rail: {} elements ({} in the insert), tie offset {:.1} um",
         with.elements.len(),
         elements.len(),
-        tie.max_gap_m() * 1e6
+        gap_m * 1e6
     );
     let (s, c) = rail54e1::INCLINATION_RAD.sin_cos();
     let (mut x_range, mut y_range) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));

@@ -54,6 +54,19 @@ pub struct BandArc {
     pub flange_root_s_mm: f64,
 }
 
+/// Whether the arc `inner_width_deg` wide about `inner_centre_deg` lies within the arc
+/// `outer_width_deg` wide about `outer_centre_deg` (centres compared modulo 360 degrees; 1e-9
+/// degrees of slack for arcs that share an end).
+pub fn arc_within(
+    inner_centre_deg: f64,
+    inner_width_deg: f64,
+    outer_centre_deg: f64,
+    outer_width_deg: f64,
+) -> bool {
+    let offset_deg = wrap_deg(inner_centre_deg - outer_centre_deg);
+    offset_deg.abs() + 0.5 * inner_width_deg <= 0.5 * outer_width_deg + 1e-9
+}
+
 /// `angle_deg` wrapped into (-180, 180].
 pub fn wrap_deg(angle_deg: f64) -> f64 {
     let a = angle_deg.rem_euclid(360.0);
@@ -76,9 +89,13 @@ impl TreadInsertSpec {
             1e-3,
             band.arc_width_deg,
         )?;
-        let offset_deg = wrap_deg(self.arc_centre_deg - band.arc_centre_deg);
         c.require(
-            offset_deg.abs() + 0.5 * self.arc_width_deg <= 0.5 * band.arc_width_deg + 1e-9,
+            arc_within(
+                self.arc_centre_deg,
+                self.arc_width_deg,
+                band.arc_centre_deg,
+                band.arc_width_deg,
+            ),
             &format!("{field}.arc_centre_deg"),
             || {
                 format!(

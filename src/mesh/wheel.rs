@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 use super::distribute;
 use super::section::{OGrid, Polyline, SectionMesh};
 pub use super::tread_insert::TreadInsertSpec;
-use super::tread_insert::{wrap_deg, BandArc};
+use super::tread_insert::{arc_within, wrap_deg, BandArc};
 use super::{material, tie, tread_insert, Mesh, P3};
 use crate::geometry::s1002;
 use crate::geometry::wheel::{axle_radius_mm, WheelSpec};
@@ -172,7 +172,12 @@ impl TreadBandSpec {
             // Offset of the running arc's centre from the fine arc's centre.
             let offset_deg = wrap_deg(run.arc_centre_deg - self.arc_centre_deg);
             c.require(
-                offset_deg.abs() + 0.5 * self.arc_width_deg <= 0.5 * run.arc_width_deg + 1e-9,
+                arc_within(
+                    self.arc_centre_deg,
+                    self.arc_width_deg,
+                    run.arc_centre_deg,
+                    run.arc_width_deg,
+                ),
                 &format!("{f}.arc_centre_deg"),
                 || {
                     format!(
