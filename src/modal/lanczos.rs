@@ -9,6 +9,7 @@ use super::residual::FLOOR_FACTOR;
 pub use super::slice::{check_slices, MAX_SLICES};
 use super::slice::{solve_slice, Slice};
 pub use super::solution::{ModalOptions, ModalSolution, Mode};
+use super::tree_solve::TreePlan;
 use crate::{Error, Result};
 use faer::sparse::SparseColMat;
 use std::f64::consts::PI;
@@ -152,6 +153,7 @@ pub fn solve(
             symbolic: &symbolic,
             l_values,
             kind,
+            plan: TreePlan::new(&symbolic),
         };
         let res = solve_slice(
             k,

@@ -5,7 +5,10 @@
 //! - shift `sigma = -(2 pi f_s)²` below the band, so `A = K - sigma M` is symmetric positive
 //!   definite for clamped and free-free bodies alike (a free body's rigid modes have `w² = 0 >
 //!   sigma`); one sparse Cholesky `A = L Lᵀ` (faer, supernodal, with the smaller factor of
-//!   AMD and our nested dissection, [`ordering`]);
+//!   AMD and our nested dissection, [`ordering`], renumbered in a postorder of its elimination
+//!   tree, `postorder`); its solves run over the elimination tree, sibling subtrees in
+//!   parallel (`tree_solve`: the factor is streamed once per block of right-hand sides, where
+//!   one solve per thread streamed it once per thread);
 //! - operator `Op = A⁻¹ M`, self-adjoint in `<u, v>_M = uᵀ M v`, with eigenvalues
 //!   `theta = 1 / (w² - sigma)`: the lowest frequencies are the largest, best separated `theta`;
 //! - completeness first: the Sturm count, the negative pivots of a supernodal LDLᵀ of
@@ -25,8 +28,12 @@
 //!   (w_hi² - sigma)` or `theta <= 1 / (w_lo² - sigma) < 0`, both ends of the operator's
 //!   spectrum), each returning exactly its count;
 //! - models under 200 dofs take a dense solve;
-//! - each Ritz vector is purified by one more application of `Op` (damps the components along
-//!   high modes that rounding leaves), its eigenvalue is the Rayleigh quotient, and its relative
+//! - each Ritz vector `x = Q u` is purified by one more application of `Op` (damps the
+//!   components along high modes that the random start block leaves in the basis), formed from
+//!   the basis through the Lanczos relation `Op Q = [Q V_next] H~` (the coefficients actually
+//!   subtracted, and each block's `B`), so without a solve ([`slice`];
+//!   `ModalOptions::purify_by_solve` does the solve, for comparison); its eigenvalue is the
+//!   Rayleigh quotient, and its relative
 //!   residual `||K x - w² M x|| / ||K x||` (rigid modes: `/ (|sigma| ||M x||)`) must be below
 //!   the tolerance or within [`residual::FLOOR_FACTOR`] times what double precision lets it
 //!   reach ([`residual`]), else the solve fails with a message.
@@ -36,7 +43,8 @@
 //! operator), [`inertia`] (the Sturm count from `L D Lᵀ`, shared with [`axisym`]), [`block`]
 //! (block linear algebra in the M inner product), [`slice`] (spectrum slicing and the Lanczos
 //! of one slice), [`dense`] (small models and the projected matrix), [`ordering`] (nested
-//! dissection), [`mode`] (the mode types every stage shares), [`classify`] (families and
+//! dissection), `postorder` (the elimination tree and its postorder), `tree_solve` (the
+//! factor's solves over the tree), [`mode`] (the mode types every stage shares), [`classify`] (families and
 //! nodal counts), [`pipeline`] (solve and classify a `model::modal` model), [`axisym`] (the
 //! axisymmetric solver), [`hammer`] (hammer-test data).
 
@@ -52,9 +60,11 @@ pub mod lanczos;
 pub mod mode;
 pub mod ordering;
 pub mod pipeline;
+mod postorder;
 pub mod residual;
 mod separator;
 pub mod slice;
 pub mod solution;
+mod tree_solve;
 
 pub use lanczos::{solve, ModalOptions, ModalSolution, Mode};

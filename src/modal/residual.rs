@@ -59,6 +59,12 @@ pub fn rounding_floor(
     let mut mx = vec![0.0; x.len()];
     abs_sym_lower_matvec(k, x, &mut kx);
     abs_sym_lower_matvec(m, x, &mut mx);
+    floor_from_products(&kx, &mx, lambda, denominator)
+}
+
+/// [`rounding_floor`] from the products `|K| |x|` and `|M| |x|` (formed for many modes at once
+/// by the caller).
+pub fn floor_from_products(abs_k_x: &[f64], abs_m_x: &[f64], lambda: f64, denominator: f64) -> f64 {
     let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
-    0.5 * f64::EPSILON * (norm(&kx) + lambda.abs() * norm(&mx)) / denominator
+    0.5 * f64::EPSILON * (norm(abs_k_x) + lambda.abs() * norm(abs_m_x)) / denominator
 }

@@ -1,10 +1,10 @@
 //! Spectrum slicing: the band cut into slices, one shift per slice (`L D Lᵀ` inside the band),
 //! and the block Lanczos of one slice, which returns exactly the slice's Sturm count.
 
-use super::block::{m_block, m_orthogonalise_lanczos, next_block, start_block};
+use super::block::{abs_block, m_block, m_orthogonalise_lanczos, next_block, start_block};
 use super::dense::ritz;
 use super::factor::ShiftInvert;
-use super::residual::rounding_floor;
+use super::residual::floor_from_products;
 use super::solution::{ModalOptions, Mode};
 use crate::{Error, Result};
 use faer::linalg::matmul::matmul;
@@ -109,6 +109,9 @@ pub(super) fn solve_slice(
     // full pass forms Qᵀ (M w) instead, so the basis is stored once.
     let mut mq_recent: Vec<f64> = Vec::with_capacity(2 * n * b);
     let mut h_cols: Vec<Vec<f64>> = Vec::new();
+    // B of every block (`Op V_j = Q c_j + V_(j+1) B_j`): with the columns of H they give
+    // `Op Q` from the basis, which purifies the Ritz vectors without another solve.
+    let mut betas: Vec<Mat<f64>> = Vec::new();
     let (mut block, mut block_m) = start_block(m, &q, n, b, 1 + 97 * slice_index as u64)?;
     // Null-direction scale: ||Op v||_M <= 1 / |sigma| for M-normalised v below the spectrum
     // (K semi-definite); inside it ||Op|| is larger, so this threshold only gets stricter.
@@ -116,7 +119,7 @@ pub(super) fn solve_slice(
     let mut blocks = 0;
     let mut next_check = 2;
     let mut phase_s = [0.0f64; 4]; // solve, orthogonalise, next block, Ritz
-    let dim = loop {
+    let (dim, last_block) = loop {
         let j0 = q.len() / n;
         q.extend_from_slice(&block);
         if mq_recent.len() == 2 * n * b {
@@ -152,6 +155,7 @@ pub(super) fn solve_slice(
         for col in 0..b {
             h_cols.push((0..k_dim).map(|i| c[(i, col)]).collect());
         }
+        betas.push(beta.clone());
         let next_block = w;
         let exhausted = k_dim + b > max_basis;
         if blocks >= next_check || exhausted {
@@ -194,13 +198,13 @@ pub(super) fn solve_slice(
                 None => all_in_band && beyond,
             };
             if done {
-                break k_dim;
+                break (k_dim, next_block);
             }
             if exhausted || k_dim >= n {
                 // No room for another block: accept a converged band (the Sturm count checks
                 // that it is complete).
                 if all_in_band {
-                    break k_dim;
+                    break (k_dim, next_block);
                 }
                 return Err(Error::Numerical(format!(
                     "block Lanczos did not converge for all modes in {:.1}..{:.1} Hz within {} \
@@ -233,31 +237,49 @@ pub(super) fn solve_slice(
     // Ritz pairs of the final H.
     let (theta, u) = ritz(&h_cols, dim)?;
     // Ritz vectors in the band, purified by one more application of Op (damps what rounding
-    // left along unwanted modes), Rayleigh quotients, residuals.
+    // left along unwanted modes: the start block's high-frequency content survives in the
+    // basis, and K would amplify it in the residual), Rayleigh quotients, residuals.
     let wanted: Vec<usize> = (0..dim)
         .filter(|&i| slice.contains_theta(theta[i], 1e-9))
         .collect();
     let n_wanted = wanted.len();
-    let u_wanted = Mat::<f64>::from_fn(dim, n_wanted, |r, c| u[(r, wanted[c])]);
     drop(mq_recent);
-    // Peak memory is the factor and the basis: the Ritz vectors are formed in the basis's own
-    // storage, M x before Op (M x) so that x is freed first, and the factor is freed after its
-    // last use.
-    let x = ritz_vectors_in_place(q, dim, u_wanted.as_ref(), n);
-    let mut mx = vec![0.0; x.len()];
-    m_block(m, &x, &mut mx);
-    drop(x);
-    let mut y = vec![0.0; n * n_wanted];
-    if n_wanted > 0 {
-        op.apply_block(&mx, &mut y);
-    }
-    drop(mx);
-    drop(op);
+    // Peak memory is the factor and the basis: the vectors are formed in the basis's own
+    // storage, after the factor's last use.
+    let y = if opts.purify_by_solve {
+        // y = Op (Q u), by a solve of M x.
+        drop(last_block);
+        let u_wanted = Mat::<f64>::from_fn(dim, n_wanted, |r, c| u[(r, wanted[c])]);
+        let x = ritz_vectors_in_place(q, dim, u_wanted.as_ref(), n);
+        let mut mx = vec![0.0; x.len()];
+        m_block(m, &x, &mut mx);
+        drop(x);
+        let mut y = vec![0.0; n * n_wanted];
+        if n_wanted > 0 {
+            op.apply_block(&mx, &mut y);
+        }
+        drop(op);
+        y
+    } else {
+        // y = Op (Q u) = [Q V_next] (H~ u), no solve: the Lanczos relation holds column by
+        // column for the vectors the solves returned, `Op Q = [Q V_next] H~`, with H~ the
+        // coefficients actually subtracted (block upper Hessenberg: the columns of H, then B_j
+        // below block j). The combination is that of the solves' outputs, so the basis's
+        // high-frequency content (the random start block's, which K amplifies in a residual)
+        // cancels in it as it does there; what is left is rounding of the solve's own size.
+        drop(op);
+        let z = purifying_coefficients(&h_cols, &betas, &u, &wanted, b);
+        q.reserve_exact(n * b);
+        q.extend_from_slice(&last_block);
+        drop(last_block);
+        ritz_vectors_in_place(q, dim + b, z.as_ref(), n)
+    };
     let mut ky = vec![0.0; y.len()];
     let mut my = vec![0.0; y.len()];
     m_block(k, &y, &mut ky);
     m_block(m, &y, &mut my);
-    let modes: Vec<Mode> = (0..n_wanted)
+    // Per mode: Rayleigh quotient, residual, ||K y||, ||M y||, ||y||_M.
+    let stats: Vec<[f64; 5]> = (0..n_wanted)
         .into_par_iter()
         .map(|c| {
             let (yc, kyc, myc) = (
@@ -267,7 +289,6 @@ pub(super) fn solve_slice(
             );
             let ymy: f64 = yc.iter().zip(myc).map(|(a, b)| a * b).sum();
             let yky: f64 = yc.iter().zip(kyc).map(|(a, b)| a * b).sum();
-            let nrm = ymy.max(0.0).sqrt();
             let lambda = yky / ymy;
             let r: f64 = kyc
                 .iter()
@@ -277,6 +298,16 @@ pub(super) fn solve_slice(
                 .sqrt();
             let ky_norm = kyc.iter().map(|a| a * a).sum::<f64>().sqrt();
             let my_norm = myc.iter().map(|a| a * a).sum::<f64>().sqrt();
+            [lambda, r, ky_norm, my_norm, ymy.max(0.0).sqrt()]
+        })
+        .collect();
+    // The rounding floors' |K| |y| and |M| |y|, in the buffers of K y and M y.
+    abs_block(k, &y, &mut ky);
+    abs_block(m, &y, &mut my);
+    let modes: Vec<Mode> = (0..n_wanted)
+        .into_par_iter()
+        .map(|c| {
+            let [lambda, r, ky_norm, my_norm, nrm] = stats[c];
             let freq = lambda.signum() * lambda.abs().sqrt() / (2.0 * PI);
             let rigid = freq.abs() < opts.rigid_below_hz;
             // ||K x|| for flexible modes. For rigid modes ||K x|| is itself round-off, so the
@@ -287,13 +318,19 @@ pub(super) fn solve_slice(
             } else {
                 ky_norm
             };
+            let columns = c * n..(c + 1) * n;
             Mode {
                 frequency_hz: freq,
                 eigenvalue: lambda,
                 residual: r / denom,
-                residual_floor: rounding_floor(k, m, yc, lambda, denom),
+                residual_floor: floor_from_products(
+                    &ky[columns.clone()],
+                    &my[columns.clone()],
+                    lambda,
+                    denom,
+                ),
                 rigid,
-                vector: yc.iter().map(|v| v / nrm).collect(),
+                vector: y[columns].iter().map(|v| v / nrm).collect(),
             }
         })
         .filter(|mode| mode.eigenvalue > slice.lambda_lo && mode.eigenvalue <= slice.lambda_hi)
@@ -303,6 +340,34 @@ pub(super) fn solve_slice(
         basis: dim,
         blocks,
     })
+}
+
+/// `Z = H~ U` for the wanted Ritz vectors (columns `wanted` of `u`): `H~` is the `(dim + b) x
+/// dim` block upper Hessenberg matrix of the Lanczos relation `Op Q = [Q V_next] H~`, column
+/// `j` holding `h_cols[j]` (rows up to the end of its block) and, in the rows of the next
+/// block, column `j mod b` of `B` of its block (`betas`).
+fn purifying_coefficients(
+    h_cols: &[Vec<f64>],
+    betas: &[Mat<f64>],
+    u: &Mat<f64>,
+    wanted: &[usize],
+    b: usize,
+) -> Mat<f64> {
+    let dim = h_cols.len();
+    let mut z = Mat::<f64>::zeros(dim + b, wanted.len());
+    for (c, &w) in wanted.iter().enumerate() {
+        for (j, col) in h_cols.iter().enumerate() {
+            let ujc = u[(j, w)];
+            for (i, h) in col.iter().enumerate() {
+                z[(i, c)] += h * ujc;
+            }
+            let (block, local) = (j / b, j % b);
+            for r in 0..b {
+                z[((block + 1) * b + r, c)] += betas[block][(r, local)] * ujc;
+            }
+        }
+    }
+    z
 }
 
 /// `X = Q U` (Q: the basis, `dim` columns of `n` rows, column-major; U: `dim` x `k`) written

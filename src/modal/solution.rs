@@ -26,6 +26,10 @@ pub struct ModalOptions {
     /// slices mean more factorisations but smaller Krylov bases (orthogonalisation grows with
     /// the square of the basis): for wide bands with many modes. 1..=[`crate::modal::slice::MAX_SLICES`].
     pub slices: usize,
+    /// Purify the Ritz vectors by one more solve, `y = Op x` (the textbook way), instead of
+    /// from the basis through the Lanczos relation (the default: the same vectors to rounding,
+    /// without a solve of every wanted column; [`crate::modal::lanczos`]). For comparisons.
+    pub purify_by_solve: bool,
 }
 
 impl Default for ModalOptions {
@@ -43,6 +47,7 @@ impl Default for ModalOptions {
             block_size: 16,
             sturm_check: true,
             slices: 1,
+            purify_by_solve: false,
         }
     }
 }
