@@ -4,7 +4,8 @@
 //! count from the inertia of `L D Lᵀ` ([`crate::modal::inertia`]).
 
 use super::inertia::negative_pivots;
-use super::tree_solve::{TreePlan, Triangular};
+pub(crate) use super::tree_solve::FactorKind;
+use super::tree_solve::TreePlan;
 use crate::modal::ordering::nested_dissection;
 use crate::modal::postorder::postordered;
 use crate::{Error, Result};
@@ -39,11 +40,7 @@ impl ShiftInvert<'_> {
         let n = self.m.nrows();
         w.copy_from_slice(mv);
         if let Some(plan) = &self.plan {
-            let kind = match self.kind {
-                FactorKind::Llt => Triangular::Llt,
-                FactorKind::Ldlt => Triangular::Ldlt,
-            };
-            plan.solve_in_place(&self.l_values, kind, w);
+            plan.solve_in_place(&self.l_values, self.kind, w);
             return;
         }
         let cols = w.len() / n;
@@ -192,15 +189,6 @@ pub fn sturm_count(
     let a = shifted(k, m, lambda_max)?;
     let symbolic = symbolic_pencil(&a)?;
     sturm_count_with(&a, &symbolic, lambda_max)
-}
-
-/// Which numeric factorisation of a pencil matrix.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum FactorKind {
-    /// `L Lᵀ` (positive definite: the shift below the spectrum).
-    Llt,
-    /// `L D Lᵀ`, no pivoting (indefinite: the Sturm count at the band edge).
-    Ldlt,
 }
 
 /// Numeric factor values of `a` on its symbolic structure; the faer error as text on failure.

@@ -34,12 +34,13 @@ const MAX_DEPTH: usize = 8;
 /// a task's fixed costs (its accumulator, the merge) are no longer small against its work.
 const MIN_SPLIT_SHARE: f64 = 1.0 / 256.0;
 
-/// Which factorisation the values hold.
+/// Which numeric factorisation of a pencil matrix, so which factor the values hold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Triangular {
-    /// `L Lᵀ`, `L` with its diagonal.
+pub(crate) enum FactorKind {
+    /// `L Lᵀ`, `L` with its diagonal (positive definite: the shift below the spectrum).
     Llt,
-    /// `L D Lᵀ`, `L` unit lower, `D` stored on its diagonal.
+    /// `L D Lᵀ`, no pivoting, `L` unit lower, `D` stored on its diagonal (indefinite: a shift
+    /// inside the band, the Sturm count at a band edge).
     Ldlt,
 }
 
@@ -161,7 +162,7 @@ impl<'a> TreePlan<'a> {
 
     /// `rhs = A⁻¹ rhs` with `A = L Lᵀ` or `L D Lᵀ` from `values` (the factor's entries in
     /// faer's supernodal layout), `rhs` column-major `n x k`.
-    pub(crate) fn solve_in_place(&self, values: &[f64], kind: Triangular, rhs: &mut [f64]) {
+    pub(crate) fn solve_in_place(&self, values: &[f64], kind: FactorKind, rhs: &mut [f64]) {
         let n = self.sn.nrows();
         let k = rhs.len() / n;
         // Permuted and row-major: a row's k values are adjacent, so the scatter and gather of a
@@ -180,7 +181,7 @@ impl<'a> TreePlan<'a> {
             k,
             min_split: (values.len() as f64 * MIN_SPLIT_SHARE) as usize,
         };
-        let mut none = Ancestors::empty(k);
+        let mut none = Ancestors::empty();
         let mut tmp = task.scratch();
         task.forward_siblings(&self.roots, &mut x, 0, &mut none, &mut tmp, 0);
         task.backward_siblings(&self.roots, &mut x, 0, &none, &mut tmp, 0);
@@ -202,7 +203,7 @@ struct Ancestors {
 }
 
 impl Ancestors {
-    fn empty(_k: usize) -> Ancestors {
+    fn empty() -> Ancestors {
         Ancestors {
             ranges: Vec::new(),
             vals: Vec::new(),
@@ -258,7 +259,7 @@ impl Ancestors {
 struct Task<'p, 'v> {
     plan: &'p TreePlan<'p>,
     values: &'v [f64],
-    kind: Triangular,
+    kind: FactorKind,
     k: usize,
     min_split: usize,
 }
@@ -299,8 +300,8 @@ impl Task<'_, '_> {
         {
             let xs = MatMut::from_row_major_slice_mut(&mut x[own.clone()], size, k);
             match self.kind {
-                Triangular::Llt => solve_lower_triangular_in_place(top, xs, Par::Seq),
-                Triangular::Ldlt => solve_unit_lower_triangular_in_place(top, xs, Par::Seq),
+                FactorKind::Llt => solve_lower_triangular_in_place(top, xs, Par::Seq),
+                FactorKind::Ldlt => solve_unit_lower_triangular_in_place(top, xs, Par::Seq),
             }
         }
         let np = pattern.len();
@@ -329,7 +330,7 @@ impl Task<'_, '_> {
                 }
             }
         }
-        if self.kind == Triangular::Ldlt {
+        if self.kind == FactorKind::Ldlt {
             for i in 0..size {
                 let d_inv = 1.0 / top[(i, i)];
                 for v in &mut x[(start + i) * k..(start + i + 1) * k] {
@@ -377,8 +378,8 @@ impl Task<'_, '_> {
         }
         let xs = MatMut::from_row_major_slice_mut(&mut x[own], size, k);
         match self.kind {
-            Triangular::Llt => solve_upper_triangular_in_place(top.transpose(), xs, Par::Seq),
-            Triangular::Ldlt => solve_unit_upper_triangular_in_place(top.transpose(), xs, Par::Seq),
+            FactorKind::Llt => solve_upper_triangular_in_place(top.transpose(), xs, Par::Seq),
+            FactorKind::Ldlt => solve_unit_upper_triangular_in_place(top.transpose(), xs, Par::Seq),
         }
     }
 
@@ -578,7 +579,7 @@ mod tests {
     use faer::sparse::linalg::SupernodalThreshold;
     use faer::sparse::SparseColMat;
     use faer::Side;
-    use Triangular::{Ldlt, Llt};
+    use FactorKind::{Ldlt, Llt};
 
     /// Lower triangle of the 7-point Laplacian on an `m^3` grid (Dirichlet), minus `shift`
     /// on the diagonal: positive definite for `shift < 0`, indefinite inside (0, 12).
@@ -610,7 +611,7 @@ mod tests {
     fn factor(
         a: &SparseColMat<usize, f64>,
         sym: &SymbolicCholesky<usize>,
-        kind: Triangular,
+        kind: FactorKind,
     ) -> Vec<f64> {
         let mut values = vec![0.0; sym.len_val()];
         let par = Par::Seq;
