@@ -1,7 +1,8 @@
 //! `squeal` with no arguments: the main job on the embedded default scenario. It builds and
 //! describes the default meshes (reports/default/model/), then runs the pipeline: wheel modes,
-//! the default rolling case (paper case 3 on the demo meshes, 40 ms, `data/cases/case3-demo.json`)
-//! and the report over it (reports/default/index.html).
+//! the default rolling case (paper case 3 on the demo meshes with 2 mm inserts over the paper's
+//! patch snapshots, 40 ms, `data/cases/case3-demo-inserts.json`) and the report over it
+//! (reports/default/index.html).
 
 use std::fmt::Write as _;
 use std::path::Path;
