@@ -3,6 +3,7 @@
 //! Krylov block with its coupling, and the random start block.
 
 use super::residual::abs_sym_lower_matvec;
+use super::workspace::Workspace;
 use crate::fem::assembly::sym_lower_matvec;
 use crate::random::XorShift64;
 use crate::{Error, Result};
@@ -24,77 +25,119 @@ pub(super) const MATVEC_TILE: usize = 8;
 /// `out = A v` for a block of columns (column-major, `n` rows each; A symmetric, lower
 /// triangle stored). Columns go in tiles of 8, tiles in parallel; a tile is interleaved
 /// row-major so that one pass over A's entries updates 8 contiguous values (A is read once
-/// per tile instead of once per column).
-pub(super) fn m_block(a: &SparseColMat<usize, f64>, v: &[f64], out: &mut [f64]) {
-    tiled_matvec::<false>(a, v, out);
+/// per tile instead of once per column). The tiles' row-major copies come from `ws`.
+pub(super) fn m_block(
+    a: &SparseColMat<usize, f64>,
+    v: &[f64],
+    out: &mut [f64],
+    ws: &mut Workspace,
+) {
+    tiled_matvec::<false>(a, v, out, ws);
 }
 
 /// `out = |A| |v|` for a block of columns, tiled as [`m_block`]: the products of a rounding
 /// floor ([`crate::modal::residual`]) for all modes at once, with A read once per tile of
 /// columns instead of once per mode.
-pub(super) fn abs_block(a: &SparseColMat<usize, f64>, v: &[f64], out: &mut [f64]) {
-    tiled_matvec::<true>(a, v, out);
+pub(super) fn abs_block(
+    a: &SparseColMat<usize, f64>,
+    v: &[f64],
+    out: &mut [f64],
+    ws: &mut Workspace,
+) {
+    tiled_matvec::<true>(a, v, out, ws);
 }
 
-/// [`m_block`] (`ABS = false`) or [`abs_block`] (`ABS = true`).
-fn tiled_matvec<const ABS: bool>(a: &SparseColMat<usize, f64>, v: &[f64], out: &mut [f64]) {
+/// [`m_block`] (`ABS = false`) or [`abs_block`] (`ABS = true`). Tiles go in groups of one per
+/// thread, so that only that many tiles' copies are held at once (a block of 163 modes has 21
+/// tiles); each tile's result depends on its columns only, so the grouping does not change it.
+fn tiled_matvec<const ABS: bool>(
+    a: &SparseColMat<usize, f64>,
+    v: &[f64],
+    out: &mut [f64],
+    ws: &mut Workspace,
+) {
+    let n = a.nrows();
+    if n == 0 {
+        return;
+    }
+    const T: usize = MATVEC_TILE;
+    let group = rayon::current_num_threads().max(1);
+    let mut copies: Vec<(Vec<f64>, Vec<f64>)> = (0..group.min(v.len().div_ceil(n * T)))
+        .map(|_| (ws.take(n * T), ws.take(n * T)))
+        .collect();
+    for (o, x) in out.chunks_mut(n * T * group).zip(v.chunks(n * T * group)) {
+        o.par_chunks_mut(n * T)
+            .zip(x.par_chunks(n * T))
+            .zip(copies.par_iter_mut())
+            .for_each(|((o, x), (xr, yr))| tile_matvec::<ABS>(a, x, o, xr, yr));
+    }
+    for (xr, yr) in copies {
+        ws.give(xr);
+        ws.give(yr);
+    }
+}
+
+/// One tile of [`tiled_matvec`]: `o = A x` (or `|A| |x|`) for up to [`MATVEC_TILE`] columns,
+/// through the row-major copies `xr`, `yr` (`n x MATVEC_TILE`, contents on entry unused).
+fn tile_matvec<const ABS: bool>(
+    a: &SparseColMat<usize, f64>,
+    x: &[f64],
+    o: &mut [f64],
+    xr: &mut [f64],
+    yr: &mut [f64],
+) {
     let n = a.nrows();
     let col_ptr = a.symbolic().col_ptr();
     let row_idx = a.symbolic().row_idx();
     let val = a.val();
     const T: usize = MATVEC_TILE;
-    out.par_chunks_mut(n * T)
-        .zip(v.par_chunks(n * T))
-        .for_each(|(o, x)| {
-            let cols = x.len() / n;
-            if cols < T {
-                for (oc, xc) in o.chunks_mut(n).zip(x.chunks(n)) {
-                    if ABS {
-                        abs_sym_lower_matvec(a, xc, oc);
-                    } else {
-                        sym_lower_matvec(a, xc, oc);
-                    }
-                }
-                return;
+    let cols = x.len() / n;
+    if cols < T {
+        for (oc, xc) in o.chunks_mut(n).zip(x.chunks(n)) {
+            if ABS {
+                abs_sym_lower_matvec(a, xc, oc);
+            } else {
+                sym_lower_matvec(a, xc, oc);
             }
-            let mut xr = vec![0.0; n * T];
+        }
+        return;
+    }
+    for c in 0..T {
+        for r in 0..n {
+            xr[r * T + c] = if ABS {
+                x[c * n + r].abs()
+            } else {
+                x[c * n + r]
+            };
+        }
+    }
+    yr.fill(0.0);
+    for j in 0..n {
+        let xj: [f64; T] = xr[j * T..(j + 1) * T].try_into().unwrap_or([0.0; T]);
+        let mut acc = [0.0; T];
+        for p in col_ptr[j]..col_ptr[j + 1] {
+            let i = row_idx[p];
+            let w = if ABS { val[p].abs() } else { val[p] };
+            let yi = &mut yr[i * T..(i + 1) * T];
             for c in 0..T {
-                for r in 0..n {
-                    xr[r * T + c] = if ABS {
-                        x[c * n + r].abs()
-                    } else {
-                        x[c * n + r]
-                    };
-                }
+                yi[c] += w * xj[c];
             }
-            let mut yr = vec![0.0; n * T];
-            for j in 0..n {
-                let xj: [f64; T] = xr[j * T..(j + 1) * T].try_into().unwrap_or([0.0; T]);
-                let mut acc = [0.0; T];
-                for p in col_ptr[j]..col_ptr[j + 1] {
-                    let i = row_idx[p];
-                    let w = if ABS { val[p].abs() } else { val[p] };
-                    let yi = &mut yr[i * T..(i + 1) * T];
-                    for c in 0..T {
-                        yi[c] += w * xj[c];
-                    }
-                    if i != j {
-                        let xi = &xr[i * T..(i + 1) * T];
-                        for c in 0..T {
-                            acc[c] += w * xi[c];
-                        }
-                    }
-                }
+            if i != j {
+                let xi = &xr[i * T..(i + 1) * T];
                 for c in 0..T {
-                    yr[j * T + c] += acc[c];
+                    acc[c] += w * xi[c];
                 }
             }
-            for c in 0..T {
-                for r in 0..n {
-                    o[c * n + r] = yr[r * T + c];
-                }
-            }
-        });
+        }
+        for c in 0..T {
+            yr[j * T + c] += acc[c];
+        }
+    }
+    for c in 0..T {
+        for r in 0..n {
+            o[c * n + r] = yr[r * T + c];
+        }
+    }
 }
 
 /// `C = Aᵀ B` (A: n x ka, B: n x kb, column-major slices), parallel dense product.
@@ -188,7 +231,12 @@ pub(super) fn upper_inverse(r: &Mat<f64>) -> Mat<f64> {
 /// M-orthonormalises the block `w` (already M-orthogonal to the basis) in place by Cholesky QR,
 /// twice ("CholQR2": the second pass restores orthogonality to rounding). Returns `R` with
 /// `w_in = w_out R`, or `None` when the block is numerically rank deficient.
-pub(super) fn m_cholqr2(w: &mut [f64], mw: &mut [f64], n: usize) -> Option<Mat<f64>> {
+pub(super) fn m_cholqr2(
+    w: &mut [f64],
+    mw: &mut [f64],
+    n: usize,
+    ws: &mut Workspace,
+) -> Option<Mat<f64>> {
     let b = w.len() / n;
     let mut r_total = Mat::<f64>::identity(b, b);
     for pass in 0..2 {
@@ -199,9 +247,10 @@ pub(super) fn m_cholqr2(w: &mut [f64], mw: &mut [f64], n: usize) -> Option<Mat<f
         // W R⁻¹ and (M W) R⁻¹ = M (W R⁻¹): the M product follows the columns without a sparse
         // product (exact up to rounding of the same order as the update of W itself).
         for v in [&mut *w, &mut *mw] {
-            let mut out = vec![0.0; v.len()];
+            let mut out = ws.take(v.len());
             a_c(&mut out, v, rinv.as_ref(), 1.0, n);
             v.copy_from_slice(&out);
+            ws.give(out);
         }
         let mut next = Mat::<f64>::zeros(b, b);
         matmul(
@@ -238,9 +287,10 @@ pub(super) fn next_block(
     scale: f64,
     n: usize,
     seed: u64,
+    ws: &mut Workspace,
 ) -> Result<Mat<f64>> {
     let b = w.len() / n;
-    m_block(m, w, mw);
+    m_block(m, w, mw, ws);
     let g = at_b(w, mw, n);
     let null_col = (1e-13 * scale).powi(2);
     let d: Vec<f64> = (0..b)
@@ -280,13 +330,13 @@ pub(super) fn next_block(
             null.push(i);
         }
     }
-    let mut w1 = vec![0.0; w.len()];
+    let mut w1 = ws.take(w.len());
     a_c(&mut w1, w, t.as_ref(), 1.0, n);
     for &i in &null {
         let r = random_vector(n, seed.wrapping_mul(31).wrapping_add(i as u64));
         w1[i * n..(i + 1) * n].copy_from_slice(&r);
     }
-    let mut mw1 = vec![0.0; w.len()];
+    let mut mw1 = ws.take(w.len());
     // Second round against Q, needed when SVQB amplified what rounding left along Q: by the
     // block's condition number kappa (orthogonality loss ~ eps kappa). Skipped below kappa =
     // 1e4 (loss <= 1e-12) with no replaced direction: it is two more sweeps over the basis.
@@ -303,11 +353,11 @@ pub(super) fn next_block(
         a_c(&mut mw1, mw, t.as_ref(), 1.0, n);
         Mat::<f64>::zeros(q.len() / n, b)
     } else {
-        let c3 = m_orthogonalise(q, m, &mut w1, n);
-        m_block(m, &w1, &mut mw1);
+        let c3 = m_orthogonalise(q, m, &mut w1, n, ws);
+        m_block(m, &w1, &mut mw1, ws);
         c3
     };
-    let r2 = m_cholqr2(&mut w1, &mut mw1, n).ok_or_else(|| {
+    let r2 = m_cholqr2(&mut w1, &mut mw1, n, ws).ok_or_else(|| {
         Error::Numerical(
             "block Lanczos: the Krylov basis cannot be extended (basis spans the space)".into(),
         )
@@ -332,6 +382,8 @@ pub(super) fn next_block(
     );
     w.copy_from_slice(&w1);
     mw.copy_from_slice(&mw1);
+    ws.give(w1);
+    ws.give(mw1);
     Ok(beta)
 }
 
@@ -344,26 +396,29 @@ pub(super) fn m_orthogonalise(
     m: &SparseColMat<usize, f64>,
     w: &mut [f64],
     n: usize,
+    ws: &mut Workspace,
 ) -> Mat<f64> {
     let (k, b) = (q.len() / n, w.len() / n);
     let mut total = Mat::<f64>::zeros(k, b);
     if k == 0 {
         return total;
     }
-    let mut mw = vec![0.0; w.len()];
+    let mut mw = ws.take(w.len());
     for _ in 0..2 {
-        m_block(m, w, &mut mw);
+        m_block(m, w, &mut mw, ws);
         let c = at_b(q, &mw, n);
         add_a_c(w, q, c.as_ref(), -1.0, n);
         total += &c;
     }
+    ws.give(mw);
     total
 }
 
 /// Gram-Schmidt of a Lanczos residual block `w = Op V` against `q`: first against the last
-/// `recent` columns of `q` (in exact arithmetic `Op V` has components only along the current
-/// and the previous block: the three-term block recurrence, and they are large), using their
-/// `M Q` (`mq_recent`, kept for these columns only), then one pass against all of `q` with
+/// blocks of `q` (in exact arithmetic `Op V` has components only along the current and the
+/// previous block: the three-term block recurrence, and they are large), using their `M Q`
+/// (`mq_recent`: one slice per block, oldest first, kept for these blocks only; all their
+/// coefficients are formed before any is subtracted), then one pass against all of `q` with
 /// the coefficients `Qᵀ (M w)` (one sparse product of the block), which removes what rounding
 /// left along the older columns. After the large components are gone that pass loses little
 /// norm, so one pass reaches working precision where [`m_orthogonalise`] needs two full ones
@@ -371,24 +426,35 @@ pub(super) fn m_orthogonalise(
 /// summed coefficients `Qᵀ M w`.
 pub(super) fn m_orthogonalise_lanczos(
     q: &[f64],
-    mq_recent: &[f64],
+    mq_recent: &[&[f64]],
     m: &SparseColMat<usize, f64>,
     w: &mut [f64],
     n: usize,
+    ws: &mut Workspace,
 ) -> Mat<f64> {
     let (k, b) = (q.len() / n, w.len() / n);
-    let recent = mq_recent.len() / n;
+    let recent: usize = mq_recent.iter().map(|mq| mq.len() / n).sum();
     let first = k - recent;
-    let local = at_b(mq_recent, w, n);
-    add_a_c(w, &q[first * n..], local.as_ref(), -1.0, n);
-    let mut mw = vec![0.0; w.len()];
-    m_block(m, w, &mut mw);
+    let locals: Vec<Mat<f64>> = mq_recent.iter().map(|mq| at_b(mq, w, n)).collect();
+    let mut col = first;
+    for local in &locals {
+        let cols = local.nrows();
+        add_a_c(w, &q[col * n..(col + cols) * n], local.as_ref(), -1.0, n);
+        col += cols;
+    }
+    let mut mw = ws.take(w.len());
+    m_block(m, w, &mut mw, ws);
     let mut total = at_b(q, &mw, n);
+    ws.give(mw);
     add_a_c(w, q, total.as_ref(), -1.0, n);
-    for j in 0..b {
-        for i in first..k {
-            total[(i, j)] += local[(i - first, j)];
+    let mut col = first;
+    for local in &locals {
+        for j in 0..b {
+            for i in 0..local.nrows() {
+                total[(col + i, j)] += local[(i, j)];
+            }
         }
+        col += local.nrows();
     }
     total
 }
@@ -400,13 +466,14 @@ pub(super) fn start_block(
     n: usize,
     b: usize,
     seed: u64,
+    ws: &mut Workspace,
 ) -> Result<(Vec<f64>, Vec<f64>)> {
     for attempt in 0..4 {
         let mut w = random_vector(n * b, seed * 16 + attempt);
-        m_orthogonalise(q, m, &mut w, n);
+        m_orthogonalise(q, m, &mut w, n, ws);
         let mut mw = vec![0.0; w.len()];
-        m_block(m, &w, &mut mw);
-        if m_cholqr2(&mut w, &mut mw, n).is_some() {
+        m_block(m, &w, &mut mw, ws);
+        if m_cholqr2(&mut w, &mut mw, n, ws).is_some() {
             return Ok((w, mw));
         }
     }
@@ -421,8 +488,8 @@ mod tests {
 
     #[test]
     fn tiled_products_match_the_column_by_column_ones() {
-        // A random symmetric lower triangle with signed values; blocks of 1, 8 (one tile), 11
-        // and 19 columns (whole tiles and a remainder). The column-by-column products
+        // A random symmetric lower triangle with signed values; blocks of 1, 8 (one tile), 11,
+        // 19 and 40 columns (whole tiles and a remainder). The column-by-column products
         // (fem::assembly and modal::residual) are the references; the same terms summed in
         // another order: 1e-13 relative to the sum of magnitudes.
         let n = 150;
@@ -437,11 +504,24 @@ mod tests {
             }
         }
         let a = SparseColMat::try_new_from_triplets(n, n, &t).expect("valid triplets");
-        for cols in [1, 8, 11, 19] {
+        // One workspace for all products, its buffers poisoned with NaN first: a tile that
+        // used a stale copy without overwriting or zeroing it would show.
+        let mut ws = Workspace::new();
+        for _ in 0..8 {
+            ws.give(vec![f64::NAN; n * MATVEC_TILE]);
+        }
+        // 1, 2 and 3 threads: tiles go in groups of one per thread.
+        for (threads, cols) in [(2, 1), (2, 8), (1, 11), (2, 19), (3, 19), (3, 40)] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("thread pool");
             let v = random_vector(n * cols, 3 + cols as u64);
             let (mut tiled, mut tiled_abs) = (vec![0.0; n * cols], vec![0.0; n * cols]);
-            m_block(&a, &v, &mut tiled);
-            abs_block(&a, &v, &mut tiled_abs);
+            pool.install(|| {
+                m_block(&a, &v, &mut tiled, &mut ws);
+                abs_block(&a, &v, &mut tiled_abs, &mut ws);
+            });
             for c in 0..cols {
                 let (mut plain, mut plain_abs) = (vec![0.0; n], vec![0.0; n]);
                 sym_lower_matvec(&a, &v[c * n..(c + 1) * n], &mut plain);

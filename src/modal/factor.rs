@@ -6,6 +6,7 @@
 use super::inertia::negative_pivots;
 pub(crate) use super::tree_solve::FactorKind;
 use super::tree_solve::TreePlan;
+use super::workspace::Workspace;
 use crate::modal::ordering::nested_dissection;
 use crate::modal::postorder::postordered;
 use crate::{Error, Result};
@@ -30,17 +31,17 @@ pub(super) struct ShiftInvert<'a> {
 
 impl ShiftInvert<'_> {
     /// `W = (K - sigma M)⁻¹ M V` for a block of columns (column-major, `n` rows; `mv` holds
-    /// `M V`): one multi-right-hand-side solve over the elimination tree
+    /// `M V`; buffers from `ws`): one multi-right-hand-side solve over the elimination tree
     /// ([`crate::modal::tree_solve`], sibling subtrees in parallel), which streams the factor
     /// once for the whole block. Without a postordered supernodal factor, the block is split
     /// into one column group per thread, each solved sequentially by faer (its parallel solve
     /// synchronises inside every supernode, which cost more than it gained: measured on the
     /// 92 k dof wheel, 2 threads); that streams the factor once per thread.
-    pub(super) fn apply_block(&self, mv: &[f64], w: &mut [f64]) {
+    pub(super) fn apply_block(&self, mv: &[f64], w: &mut [f64], ws: &mut Workspace) {
         let n = self.m.nrows();
         w.copy_from_slice(mv);
         if let Some(plan) = &self.plan {
-            plan.solve_in_place(&self.l_values, self.kind, w);
+            plan.solve_in_place(&self.l_values, self.kind, w, ws);
             return;
         }
         let cols = w.len() / n;

@@ -5,6 +5,7 @@ pub use super::factor::sturm_count;
 use super::factor::{
     numeric_factor, shifted, sturm_count_with, symbolic_pencil, FactorKind, ShiftInvert,
 };
+use super::memory::resident_note;
 use super::residual::FLOOR_FACTOR;
 pub use super::slice::{check_slices, MAX_SLICES};
 use super::slice::{solve_slice, Slice};
@@ -57,9 +58,10 @@ pub fn solve(
     let mut a = Some(first);
     if trace {
         eprintln!(
-            "trace: symbolic at {:.2} s, factor entries {}",
+            "trace: symbolic at {:.2} s, factor entries {}{}",
             started.elapsed().as_secs_f64(),
-            symbolic.len_val()
+            symbolic.len_val(),
+            resident_note()
         );
     }
     // Slice edges equally spaced in frequency: a wheel's mode count grows about linearly with
@@ -80,8 +82,9 @@ pub fn solve(
         }
         if trace {
             eprintln!(
-                "trace: sturm counts {c:?} at {:.2} s",
-                started.elapsed().as_secs_f64()
+                "trace: sturm counts {c:?} at {:.2} s{}",
+                started.elapsed().as_secs_f64(),
+                resident_note()
             );
         }
         if c[slices] == 0 {
@@ -219,8 +222,9 @@ pub fn solve(
             );
         }
         eprintln!(
-            "trace: done at {:.2} s (largest basis {basis_size}, {blocks} blocks)",
-            started.elapsed().as_secs_f64()
+            "trace: done at {:.2} s (largest basis {basis_size}, {blocks} blocks){}",
+            started.elapsed().as_secs_f64(),
+            resident_note()
         );
     }
     Ok(ModalSolution {

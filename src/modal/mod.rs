@@ -44,7 +44,8 @@
 //! (block linear algebra in the M inner product), [`slice`] (spectrum slicing and the Lanczos
 //! of one slice), [`dense`] (small models and the projected matrix), [`ordering`] (nested
 //! dissection), `postorder` (the elimination tree and its postorder), `tree_solve` (the
-//! factor's solves over the tree), [`mode`] (the mode types every stage shares), [`classify`] (families and
+//! factor's solves over the tree), `workspace` (buffers reused across Lanczos steps), `memory` (resident memory for the
+//! trace), [`mode`] (the mode types every stage shares), [`classify`] (families and
 //! nodal counts), [`pipeline`] (solve and classify a `model::modal` model), [`axisym`] (the
 //! axisymmetric solver), [`hammer`] (hammer-test data).
 
@@ -57,6 +58,7 @@ pub mod factor;
 pub mod hammer;
 pub mod inertia;
 pub mod lanczos;
+mod memory;
 pub mod mode;
 pub mod ordering;
 pub mod pipeline;
@@ -66,5 +68,6 @@ mod separator;
 pub mod slice;
 pub mod solution;
 mod tree_solve;
+mod workspace;
 
 pub use lanczos::{solve, ModalOptions, ModalSolution, Mode};

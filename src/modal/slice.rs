@@ -4,8 +4,10 @@
 use super::block::{abs_block, m_block, m_orthogonalise_lanczos, next_block, start_block};
 use super::dense::ritz;
 use super::factor::ShiftInvert;
+use super::memory::resident_note;
 use super::residual::floor_from_products;
 use super::solution::{ModalOptions, Mode};
+use super::workspace::Workspace;
 use crate::{Error, Result};
 use faer::linalg::matmul::matmul;
 use faer::sparse::SparseColMat;
@@ -106,13 +108,16 @@ pub(super) fn solve_slice(
     // coefficients of column c against columns 0..=end of its block).
     let mut q: Vec<f64> = Vec::new();
     // M Q of the last two blocks only (the local pass of the Lanczos orthogonalisation): the
-    // full pass forms Qᵀ (M w) instead, so the basis is stored once.
-    let mut mq_recent: Vec<f64> = Vec::with_capacity(2 * n * b);
+    // full pass forms Qᵀ (M w) instead, so the basis is stored once. The current block's is
+    // `block_m`, the previous one's `m_prev` (moved, not copied, from block to block).
+    let mut m_prev: Option<Vec<f64>> = None;
     let mut h_cols: Vec<Vec<f64>> = Vec::new();
     // B of every block (`Op V_j = Q c_j + V_(j+1) B_j`): with the columns of H they give
     // `Op Q` from the basis, which purifies the Ritz vectors without another solve.
     let mut betas: Vec<Mat<f64>> = Vec::new();
-    let (mut block, mut block_m) = start_block(m, &q, n, b, 1 + 97 * slice_index as u64)?;
+    // The step's n x b buffers, reused from block to block (see `workspace`).
+    let mut ws = Workspace::new();
+    let (mut block, mut block_m) = start_block(m, &q, n, b, 1 + 97 * slice_index as u64, &mut ws)?;
     // Null-direction scale: ||Op v||_M <= 1 / |sigma| for M-normalised v below the spectrum
     // (K semi-definite); inside it ||Op|| is larger, so this threshold only gets stricter.
     let scale = 1.0 / slice.sigma.abs().max(1e-300);
@@ -122,22 +127,30 @@ pub(super) fn solve_slice(
     let (dim, last_block) = loop {
         let j0 = q.len() / n;
         q.extend_from_slice(&block);
-        if mq_recent.len() == 2 * n * b {
-            mq_recent.drain(..n * b);
-        }
-        mq_recent.extend_from_slice(&block_m);
         let k_dim = j0 + b;
         blocks += 1;
-        let mut w = vec![0.0; n * b];
+        // Overwritten by the solve.
+        let mut w = ws.take(n * b);
         let t0 = Instant::now();
-        op.apply_block(&block_m, &mut w);
+        op.apply_block(&block_m, &mut w, &mut ws);
         let t1 = Instant::now();
-        let mut c = m_orthogonalise_lanczos(&q, &mq_recent, m, &mut w, n);
+        let recent: Vec<&[f64]> = m_prev
+            .iter()
+            .map(|p| p.as_slice())
+            .chain([block_m.as_slice()])
+            .collect();
+        let mut c = m_orthogonalise_lanczos(&q, &recent, m, &mut w, n, &mut ws);
         let t2 = Instant::now();
         // With the basis spanning the whole space the residual block is zero.
         let beta = if k_dim >= n {
             Mat::<f64>::zeros(b, b)
         } else {
+            // The current block's M product becomes the previous one's; the next block's is
+            // written into a buffer from the workspace.
+            let current_m = std::mem::replace(&mut block_m, ws.take(n * b));
+            if let Some(older) = m_prev.replace(current_m) {
+                ws.give(older);
+            }
             next_block(
                 m,
                 &q,
@@ -147,6 +160,7 @@ pub(super) fn solve_slice(
                 scale,
                 n,
                 blocks as u64 + 7 + 1000 * slice_index as u64,
+                &mut ws,
             )?
         };
         phase_s[0] += (t1 - t0).as_secs_f64();
@@ -186,8 +200,9 @@ pub(super) fn solve_slice(
             let n_conv = (0..k_dim).filter(|&i| in_band(theta[i]) && conv(i)).count();
             if trace {
                 eprintln!(
-                    "trace: {:.2} s basis {k_dim}: {n_conv}/{n_band} in band converged",
-                    started.elapsed().as_secs_f64()
+                    "trace: {:.2} s basis {k_dim}: {n_conv}/{n_band} in band converged{}",
+                    started.elapsed().as_secs_f64(),
+                    resident_note()
                 );
             }
             let done = match count {
@@ -225,13 +240,21 @@ pub(super) fn solve_slice(
                 blocks + 1.max(blocks * 3 / 20)
             };
         }
-        block = next_block;
+        // The old block is in the basis now: its storage serves a later step.
+        ws.give(std::mem::replace(&mut block, next_block));
     };
+    // Released before the vectors are formed: the post-loop work has its own.
+    drop(ws);
+    let mut ws = Workspace::new();
 
     if trace {
         eprintln!(
-            "trace: phases (s): solve {:.2}, orthogonalise {:.2}, next block {:.2}, Ritz {:.2}",
-            phase_s[0], phase_s[1], phase_s[2], phase_s[3]
+            "trace: phases (s): solve {:.2}, orthogonalise {:.2}, next block {:.2}, Ritz {:.2}{}",
+            phase_s[0],
+            phase_s[1],
+            phase_s[2],
+            phase_s[3],
+            resident_note()
         );
     }
     // Ritz pairs of the final H.
@@ -243,7 +266,7 @@ pub(super) fn solve_slice(
         .filter(|&i| slice.contains_theta(theta[i], 1e-9))
         .collect();
     let n_wanted = wanted.len();
-    drop(mq_recent);
+    drop((m_prev, block_m));
     // Peak memory is the factor and the basis: the vectors are formed in the basis's own
     // storage, after the factor's last use.
     let y = if opts.purify_by_solve {
@@ -252,11 +275,11 @@ pub(super) fn solve_slice(
         let u_wanted = Mat::<f64>::from_fn(dim, n_wanted, |r, c| u[(r, wanted[c])]);
         let x = ritz_vectors_in_place(q, dim, u_wanted.as_ref(), n);
         let mut mx = vec![0.0; x.len()];
-        m_block(m, &x, &mut mx);
+        m_block(m, &x, &mut mx, &mut ws);
         drop(x);
         let mut y = vec![0.0; n * n_wanted];
         if n_wanted > 0 {
-            op.apply_block(&mx, &mut y);
+            op.apply_block(&mx, &mut y, &mut ws);
         }
         drop(op);
         y
@@ -276,8 +299,8 @@ pub(super) fn solve_slice(
     };
     let mut ky = vec![0.0; y.len()];
     let mut my = vec![0.0; y.len()];
-    m_block(k, &y, &mut ky);
-    m_block(m, &y, &mut my);
+    m_block(k, &y, &mut ky, &mut ws);
+    m_block(m, &y, &mut my, &mut ws);
     // Per mode: Rayleigh quotient, residual, ||K y||, ||M y||, ||y||_M.
     let stats: Vec<[f64; 5]> = (0..n_wanted)
         .into_par_iter()
@@ -302,8 +325,8 @@ pub(super) fn solve_slice(
         })
         .collect();
     // The rounding floors' |K| |y| and |M| |y|, in the buffers of K y and M y.
-    abs_block(k, &y, &mut ky);
-    abs_block(m, &y, &mut my);
+    abs_block(k, &y, &mut ky, &mut ws);
+    abs_block(m, &y, &mut my, &mut ws);
     let modes: Vec<Mode> = (0..n_wanted)
         .into_par_iter()
         .map(|c| {

@@ -26,6 +26,8 @@ use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::{Accum, MatMut, MatRef, Par};
 
+use super::workspace::Workspace;
+
 /// Deepest nesting of parallel splits (2^8 tasks at most: enough for work stealing to even
 /// out unequal subtrees on a few cores, few enough that the accumulators stay small).
 const MAX_DEPTH: usize = 8;
@@ -161,13 +163,20 @@ impl<'a> TreePlan<'a> {
     }
 
     /// `rhs = A⁻¹ rhs` with `A = L Lᵀ` or `L D Lᵀ` from `values` (the factor's entries in
-    /// faer's supernodal layout), `rhs` column-major `n x k`.
-    pub(crate) fn solve_in_place(&self, values: &[f64], kind: FactorKind, rhs: &mut [f64]) {
+    /// faer's supernodal layout), `rhs` column-major `n x k`; the row-major copy from `ws`.
+    pub(crate) fn solve_in_place(
+        &self,
+        values: &[f64],
+        kind: FactorKind,
+        rhs: &mut [f64],
+        ws: &mut Workspace,
+    ) {
         let n = self.sn.nrows();
         let k = rhs.len() / n;
         // Permuted and row-major: a row's k values are adjacent, so the scatter and gather of a
-        // supernode's pattern rows touch two cache lines per row instead of k.
-        let mut x = vec![0.0; n * k];
+        // supernode's pattern rows touch two cache lines per row instead of k. Every entry is
+        // written here, so a stale buffer will do.
+        let mut x = ws.take(n * k);
         for j in 0..k {
             let col = &rhs[j * n..(j + 1) * n];
             for i in 0..n {
@@ -191,6 +200,7 @@ impl<'a> TreePlan<'a> {
                 col[self.perm_fwd.map_or(i, |f| f[i])] = x[i * k + j];
             }
         }
+        ws.give(x);
     }
 }
 
@@ -721,13 +731,17 @@ mod tests {
                 }
                 let scale = reference.iter().fold(0.0f64, |a, v| a.max(v.abs()));
                 let mut first: Option<Vec<f64>> = None;
+                // The solve's row-major copy comes from a workspace; poisoned, so that a row
+                // the scatter missed would show.
+                let mut ws = Workspace::new();
+                ws.give(vec![f64::NAN; n * cols]);
                 for threads in [1, 2, 3] {
                     let pool = rayon::ThreadPoolBuilder::new()
                         .num_threads(threads)
                         .build()
                         .expect("thread pool");
                     let mut x = b.clone();
-                    pool.install(|| plan.solve_in_place(&values, kind, &mut x));
+                    pool.install(|| plan.solve_in_place(&values, kind, &mut x, &mut ws));
                     for (i, (v, r)) in x.iter().zip(&reference).enumerate() {
                         assert!(
                             (v - r).abs() <= tolerance * scale,
