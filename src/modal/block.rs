@@ -232,8 +232,8 @@ pub(super) fn upper_inverse(r: &Mat<f64>) -> Mat<f64> {
 /// twice ("CholQR2": the second pass restores orthogonality to rounding). Returns `R` with
 /// `w_in = w_out R`, or `None` when the block is numerically rank deficient.
 pub(super) fn m_cholqr2(
-    w: &mut [f64],
-    mw: &mut [f64],
+    w: &mut Vec<f64>,
+    mw: &mut Vec<f64>,
     n: usize,
     ws: &mut Workspace,
 ) -> Option<Mat<f64>> {
@@ -249,7 +249,8 @@ pub(super) fn m_cholqr2(
         for v in [&mut *w, &mut *mw] {
             let mut out = ws.take(v.len());
             a_c(&mut out, v, rinv.as_ref(), 1.0, n);
-            v.copy_from_slice(&out);
+            // The product replaces the block; the old storage goes back to the workspace.
+            std::mem::swap(v, &mut out);
             ws.give(out);
         }
         let mut next = Mat::<f64>::zeros(b, b);
@@ -281,8 +282,8 @@ pub(super) fn m_cholqr2(
 pub(super) fn next_block(
     m: &SparseColMat<usize, f64>,
     q: &[f64],
-    w: &mut [f64],
-    mw: &mut [f64],
+    w: &mut Vec<f64>,
+    mw: &mut Vec<f64>,
     c: &mut Mat<f64>,
     scale: f64,
     n: usize,
@@ -380,8 +381,9 @@ pub(super) fn next_block(
         1.0,
         Par::Seq,
     );
-    w.copy_from_slice(&w1);
-    mw.copy_from_slice(&mw1);
+    // The new block replaces the residual; the old storage goes back to the workspace.
+    std::mem::swap(w, &mut w1);
+    std::mem::swap(mw, &mut mw1);
     ws.give(w1);
     ws.give(mw1);
     Ok(beta)

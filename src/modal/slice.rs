@@ -244,8 +244,7 @@ pub(super) fn solve_slice(
         ws.give(std::mem::replace(&mut block, next_block));
     };
     // Released before the vectors are formed: the post-loop work has its own.
-    drop(ws);
-    let mut ws = Workspace::new();
+    ws = Workspace::new();
 
     if trace {
         eprintln!(
