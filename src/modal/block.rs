@@ -333,11 +333,14 @@ pub(super) fn next_block(
     }
     let mut w1 = ws.take(w.len());
     a_c(&mut w1, w, t.as_ref(), 1.0, n);
+    // The residual block is read no more: its storage serves the products below (one n x b
+    // buffer less at the step's peak; `w` takes V_next at the end).
+    ws.give(std::mem::take(w));
     for &i in &null {
         let r = random_vector(n, seed.wrapping_mul(31).wrapping_add(i as u64));
         w1[i * n..(i + 1) * n].copy_from_slice(&r);
     }
-    let mut mw1 = ws.take(w.len());
+    let mut mw1 = ws.take(w1.len());
     // Second round against Q, needed when SVQB amplified what rounding left along Q: by the
     // block's condition number kappa (orthogonality loss ~ eps kappa). Skipped below kappa =
     // 1e4 (loss <= 1e-12) with no replaced direction: it is two more sweeps over the basis.
@@ -352,8 +355,10 @@ pub(super) fn next_block(
         // M W1 = (M W) T: well conditioned (kappa < 1e4), the update loses no more than the
         // orthogonality bound above.
         a_c(&mut mw1, mw, t.as_ref(), 1.0, n);
+        ws.give(std::mem::take(mw));
         Mat::<f64>::zeros(q.len() / n, b)
     } else {
+        ws.give(std::mem::take(mw));
         let c3 = m_orthogonalise(q, m, &mut w1, n, ws);
         m_block(m, &w1, &mut mw1, ws);
         c3
@@ -381,11 +386,9 @@ pub(super) fn next_block(
         1.0,
         Par::Seq,
     );
-    // The new block replaces the residual; the old storage goes back to the workspace.
-    std::mem::swap(w, &mut w1);
-    std::mem::swap(mw, &mut mw1);
-    ws.give(w1);
-    ws.give(mw1);
+    // The new block takes the residual's place (whose storage went back to the workspace).
+    *w = w1;
+    *mw = mw1;
     Ok(beta)
 }
 

@@ -71,3 +71,4 @@ mod tree_solve;
 mod workspace;
 
 pub use lanczos::{solve, ModalOptions, ModalSolution, Mode};
+pub use memory::release_free_heap;

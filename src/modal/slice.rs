@@ -127,6 +127,9 @@ pub(super) fn solve_slice(
     let (dim, last_block) = loop {
         let j0 = q.len() / n;
         q.extend_from_slice(&block);
+        // The block is in the basis now: its storage serves this step's products (one n x b
+        // buffer less at the step's peak).
+        ws.give(std::mem::take(&mut block));
         let k_dim = j0 + b;
         blocks += 1;
         // Overwritten by the solve.
@@ -240,8 +243,7 @@ pub(super) fn solve_slice(
                 blocks + 1.max(blocks * 3 / 20)
             };
         }
-        // The old block is in the basis now: its storage serves a later step.
-        ws.give(std::mem::replace(&mut block, next_block));
+        block = next_block;
     };
     // Released before the vectors are formed: the post-loop work has its own.
     ws = Workspace::new();
