@@ -153,8 +153,6 @@ pub fn solve(
             }
         })?;
         drop(a_slice);
-        // The factorisation's freed scratch back to the system before the basis grows.
-        release_free_heap();
         factor_seconds += t0.elapsed().as_secs_f64();
         let op = ShiftInvert {
             m,
