@@ -141,12 +141,25 @@ fn rolling(a: RollingBenchArgs) -> Result<()> {
         p.element_work_fraction_free_contact
     );
     println!(
+        "element_colours={} blocks_per_colour {}",
+        p.colour_blocks.len(),
+        by_level(&p.colour_blocks, |c| c.to_string())
+    );
+    println!(
         "contact_search={:?} searched_slaves={} region_rebuild_ms={:.3}",
         a.contact_search, p.searched_slaves, p.region_rebuild_ms
     );
     println!(
         "elements_ms={:.3} contact_ms={:.3} rest_ms={:.3} contact_share={:.3}",
         p.elements_ms, p.contact_ms, p.rest_ms, p.contact_share
+    );
+    println!(
+        "step_phases_ms {}",
+        p.phase_ms
+            .iter()
+            .map(|(name, ms)| format!("{name}={ms:.3}"))
+            .collect::<Vec<_>>()
+            .join(" ")
     );
     println!("ns_per_element_step={:.1}", p.ns_per_element_step);
     println!(

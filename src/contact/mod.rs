@@ -789,6 +789,15 @@ impl AuxForces for ContactPair {
         ]
     }
 
+    /// The slaves and the master faces' nodes: the only nodes the contact force acts on.
+    fn force_nodes(&self) -> Option<Vec<usize>> {
+        let mut nodes = self.slaves.clone();
+        nodes.extend(self.faces.iter().flatten().copied());
+        nodes.sort_unstable();
+        nodes.dedup();
+        Some(nodes)
+    }
+
     fn add_forces(&mut self, _time_s: f64, dt_s: f64, u: &[P3], v: &[P3], force: &mut [P3]) {
         if self.needs_rebuild(u) {
             // Rare (when nodes moved half a face): allocation here is outside the steady loop.

@@ -10,6 +10,12 @@ pub trait AuxForces {
     /// Adds forces at time `time_s` for the state `u` (at t_n) and `v` (at t_{n-1/2}) into
     /// `force` (N). Must not allocate.
     fn add_forces(&mut self, time_s: f64, dt_s: f64, u: &[P3], v: &[P3], force: &mut [P3]);
+    /// Every node [`AuxForces::add_forces`] can ever write, or `None` (the default) when it may
+    /// write any. Declared to the solver ([`super::Solver::declare_aux_force_nodes`]), this
+    /// lets the step zero and read the auxiliary forces of these nodes only.
+    fn force_nodes(&self) -> Option<Vec<usize>> {
+        None
+    }
     /// The linearised stiffness `-d f / d u` of the forces added by the last
     /// [`AuxForces::add_forces`], as rank-one terms (the static solver's tangent; penalty
     /// contact gives one per active slave). None by default.
@@ -76,4 +82,7 @@ pub struct RankOneStiffness {
 pub struct NoAux;
 impl AuxForces for NoAux {
     fn add_forces(&mut self, _: f64, _: f64, _: &[P3], _: &[P3], _: &mut [P3]) {}
+    fn force_nodes(&self) -> Option<Vec<usize>> {
+        Some(Vec::new())
+    }
 }

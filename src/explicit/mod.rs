@@ -10,21 +10,25 @@
 //! - [`run`]: a run with output, progress, checkpoints and resume;
 //! - [`preload`]: static equilibrium by dynamic relaxation;
 //! - [`levels`], [`multirate`]: the power-of-two level partition and subcycled stepping;
-//! - `tie_update`: the tied interfaces' force pass and follow step, in parallel.
+//! - `tie_update`: the tied interfaces' force pass and follow step, in parallel;
+//! - [`phase_clock`]: wall time by phase of a step, for the benchmarks.
 //!
 //! Time curves ([`Curve`]) and spring-dampers ([`Spring`]) are the model stage's
 //! ([`crate::model`]), re-exported here.
 
 pub mod aux;
+mod aux_nodes;
 pub mod batch;
 pub mod bench;
 mod colour;
 pub mod element;
 pub mod energy;
+mod forces;
 pub mod levels;
 pub mod linearised;
 pub mod model;
 pub mod multirate;
+pub mod phase_clock;
 pub mod preload;
 mod rigid_body;
 mod rotation;

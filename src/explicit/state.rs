@@ -109,3 +109,13 @@ pub struct OutputFields {
     /// directions): `m (v_(n+1/2) - v_(n-1/2)) / dt - F`, what the guide applies to the body.
     pub rigid_reaction_force_n: Vec<P3>,
 }
+
+/// The nodes whose auxiliary force a step zeroes and reads, ascending, with the counts of
+/// springs and loads they were built from (a model changed since falls back to every node;
+/// `aux_nodes.rs`).
+#[derive(Clone, Debug, Default)]
+pub(super) struct AuxNodeSet {
+    pub(super) nodes: Vec<u32>,
+    pub(super) springs: usize,
+    pub(super) loads: usize,
+}

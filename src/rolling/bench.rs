@@ -1,8 +1,9 @@
 //! Where a rolling step's time goes: the model of a case built as `simulate` builds it (no
 //! preload), a few warm-up steps so that the wheel presses on the rail, then the element
 //! forces, the contact forces and whole steps timed apart; the rest of a step (integration,
-//! rigid body, springs, ties) is the difference. The projection multiplies the whole step by
-//! the case's number of steps: the time loop's wall time without output or preload.
+//! rigid body, springs, ties) is the difference; the same steps run again with the solver's
+//! phase clock on break the whole step down by phase. The projection multiplies the whole
+//! step by the case's number of steps: the time loop's wall time without output or preload.
 //!
 //! [`preload_profile`] times the static preload alone, by either method.
 
@@ -12,6 +13,7 @@ use serde::Serialize;
 
 use super::build::build;
 use super::stepping::{apply_stepping, choose_stepping, contact_nodes};
+use crate::explicit::phase_clock::STEP_PHASES;
 use crate::explicit::solver::AuxForces;
 use crate::model::case::{LoadedCase, MultiRateMode};
 use crate::{Error, Result};
@@ -69,6 +71,12 @@ pub struct StepProfile {
     pub multi_rate: bool,
     /// How the steps were timed, and why (`rolling::stepping`).
     pub time_stepping: String,
+    /// Blocks of elements per colour of the single-rate element loop (each colour is one
+    /// parallel loop, so few blocks in a colour leave threads idle).
+    pub colour_blocks: Vec<usize>,
+    /// A whole step's wall time by phase (ms a step; [`crate::explicit::phase_clock`]), from
+    /// a second run of the timed steps with the phase clock on.
+    pub phase_ms: Vec<(String, f64)>,
     /// With multi-rate stepping: the element forces of each level alone, per element of the
     /// level and evaluation (ns).
     pub level_ns_per_element_step: Vec<f64>,
@@ -151,6 +159,19 @@ pub fn step_profile(
         m.solver.step_with(&mut m.contact, false, false)?;
     }
     let step_s = started.elapsed().as_secs_f64() / steps as f64;
+    // The same steps again with the phase clock on: where a whole step's time goes.
+    m.solver.time_phases(true);
+    for _ in 0..steps {
+        m.solver.step_with(&mut m.contact, false, false)?;
+    }
+    let phase_ms: Vec<(String, f64)> = match m.solver.phase_clock() {
+        Some(clock) => STEP_PHASES
+            .iter()
+            .map(|&p| (p.name().to_string(), clock.seconds(p) * 1e3 / steps as f64))
+            .collect(),
+        None => Vec::new(),
+    };
+    m.solver.time_phases(false);
     let elements = m.solver.model.elements.len();
     // The engine's levels (module docs of `explicit::multirate`), with and without the
     // contact's nodes held at the finest.
@@ -182,6 +203,8 @@ pub fn step_profile(
         multi_rate: choice.multi_rate,
         time_stepping: choice.reason.clone(),
         level_ns_per_element_step,
+        colour_blocks: m.solver.colour_blocks(),
+        phase_ms,
     })
 }
 

@@ -206,6 +206,9 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         step_levels: None,
     };
     let contact = RollingContact::new(pair, d.rim_and_hub, &case.output, axle, d.wheel_centre_m[1]);
+    // The contact acts on its slaves and master faces only: the step zeroes and reads the
+    // auxiliary forces there (explicit::aux_nodes).
+    solver.declare_aux_forces_of(&contact)?;
     Ok(RollingModel {
         solver,
         contact,

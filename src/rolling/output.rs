@@ -280,6 +280,10 @@ impl AuxForces for RollingContact {
         self.pair.add_forces(time_s, dt_s, u, v, force);
     }
 
+    fn force_nodes(&self) -> Option<Vec<usize>> {
+        self.pair.force_nodes()
+    }
+
     fn stiffness_terms(&self, out: &mut Vec<crate::explicit::aux::RankOneStiffness>) {
         self.pair.stiffness_terms(out);
     }
