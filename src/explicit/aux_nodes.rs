@@ -3,8 +3,9 @@
 //! it in the node update streamed 72 bytes a node a step. Once the caller has declared the
 //! nodes its [`AuxForces`] writes ([`Solver::declare_aux_force_nodes`]), the step zeroes and
 //! reads `f_aux` at the declared nodes, the springs' and loads' nodes, and the tie masters that
-//! receive a declared slave's force; everywhere else the array stays zero, so the arithmetic is
-//! that of the full array bit for bit (a zero force adds exactly zero work).
+//! receive a declared slave's force (the ties pass on the auxiliary forces of declared slaves
+//! only); everywhere else the array stays zero, so the arithmetic is that of the full array bit
+//! for bit (a zero force adds exactly zero work).
 //!
 //! The declaration is checked, not trusted: at every energy report the step confirms that no
 //! auxiliary force landed outside the set ([`Solver::aux_forces_outside_declared`]) and stops
@@ -15,6 +16,7 @@ use rayon::prelude::*;
 use super::aux::AuxForces;
 use super::solver::{Solver, NODE_CHUNK};
 use super::state::AuxNodeSet;
+use super::tie_update::TieGather;
 use crate::{Error, Result};
 
 impl Solver {
@@ -27,6 +29,7 @@ impl Solver {
         let Some(list) = nodes else {
             self.aux_force_node = vec![true; n];
             self.aux_zero = None;
+            self.tie_gather_aux = None;
             return Ok(());
         };
         let mut flag = vec![false; n];
@@ -62,6 +65,14 @@ impl Solver {
                 }
             }
         }
+        let declared_ties: Vec<_> = self
+            .model
+            .ties
+            .iter()
+            .filter(|t| flag[t.slave])
+            .cloned()
+            .collect();
+        self.tie_gather_aux = Some(TieGather::new(&declared_ties, n));
         self.f_aux.fill([0.0; 3]);
         self.aux_zero = Some(AuxNodeSet {
             nodes: (0..n).filter(|&i| flag[i]).map(|i| i as u32).collect(),
@@ -92,6 +103,7 @@ impl Solver {
             // Springs or loads added since the declaration: their nodes are not in the set.
             self.aux_force_node.fill(true);
             self.aux_zero = None;
+            self.tie_gather_aux = None;
         }
         match &self.aux_zero {
             Some(set) => {

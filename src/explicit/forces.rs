@@ -54,8 +54,16 @@ impl Solver {
         aux.add_forces(t, dt, &self.u, &self.v, &mut self.f_aux);
         self.lap(StepPhase::Contact);
         // Tie slaves pass their forces to the masters.
-        self.tie_gather
-            .pass_forces(&mut self.f_int, &mut self.f_aux);
+        match &self.tie_gather_aux {
+            // Undeclared slaves carry no auxiliary force: their masters get none to pass on.
+            Some(aux_gather) => {
+                self.tie_gather.pass(&mut self.f_int);
+                aux_gather.pass(&mut self.f_aux);
+            }
+            None => self
+                .tie_gather
+                .pass_forces(&mut self.f_int, &mut self.f_aux),
+        }
         self.lap(StepPhase::TiePass);
     }
 

@@ -107,6 +107,8 @@ pub struct Solver {
     pub(super) aux_force_node: Vec<bool>,
     /// The nodes whose auxiliary force a step zeroes; `None`: every node.
     pub(super) aux_zero: Option<super::state::AuxNodeSet>,
+    /// The ties' pass of auxiliary forces, from the declared slaves only (`None`: all ties).
+    pub(super) tie_gather_aux: Option<super::tie_update::TieGather>,
 }
 
 impl Solver {
@@ -285,6 +287,7 @@ impl Solver {
             phase_clock: None,
             aux_force_node: vec![true; n],
             aux_zero: None,
+            tie_gather_aux: None,
             model,
         };
         let stable = solver.stable_time_step_s()?;

@@ -69,26 +69,38 @@ impl TieGather {
 
     /// `f_m += w f_s` for both force arrays, every master in parallel.
     pub(super) fn pass_forces(&self, f_int: &mut [P3], f_aux: &mut [P3]) {
-        let (fi_ptr, fa_ptr) = (SharedMut(f_int.as_mut_ptr()), SharedMut(f_aux.as_mut_ptr()));
+        self.pass_into([f_int, f_aux]);
+    }
+
+    /// `f_m += w f_s` for one force array, every master in parallel.
+    pub(super) fn pass(&self, force: &mut [P3]) {
+        self.pass_into([force]);
+    }
+
+    /// `f_m += w f_s` for each of `forces`, in one sweep over the masters.
+    fn pass_into<const K: usize>(&self, forces: [&mut [P3]; K]) {
+        let ptrs = forces.map(|f| SharedMut(f.as_mut_ptr()));
         self.masters
             .par_chunks(TIE_CHUNK)
             .enumerate()
             .for_each(|(c, masters)| {
                 for (j, &m) in masters.iter().enumerate() {
                     let i = c * TIE_CHUNK + j;
-                    // SAFETY: each master is written by one task; the slaves read are never
-                    // masters (Solver::new refuses chained ties), so nothing read is written.
-                    unsafe {
-                        let (mut fi, mut fa) = (*fi_ptr.at(m), *fa_ptr.at(m));
-                        for &(s, w) in &self.entries[self.start[i]..self.start[i + 1]] {
-                            let (si, sa) = (*fi_ptr.at(s), *fa_ptr.at(s));
-                            for d in 0..3 {
-                                fi[d] += w * si[d];
-                                fa[d] += w * sa[d];
+                    let entries = &self.entries[self.start[i]..self.start[i + 1]];
+                    for f_ptr in ptrs {
+                        // SAFETY: each master is written by one task; the slaves read are never
+                        // masters (Solver::new refuses chained ties), so nothing read is
+                        // written.
+                        unsafe {
+                            let mut f = *f_ptr.at(m);
+                            for &(s, w) in entries {
+                                let fs = *f_ptr.at(s);
+                                for d in 0..3 {
+                                    f[d] += w * fs[d];
+                                }
                             }
+                            *f_ptr.at(m) = f;
                         }
-                        *fi_ptr.at(m) = fi;
-                        *fa_ptr.at(m) = fa;
                     }
                 }
             });
