@@ -85,18 +85,7 @@ fn bits(values: &[P3]) -> Vec<u64> {
 }
 
 fn work_bits(s: &Solver) -> Vec<u64> {
-    let w = s.work;
-    [
-        w.internal_j,
-        w.aux_j,
-        w.gravity_j,
-        w.mass_damping_j,
-        w.reaction_j,
-        w.spring_j,
-        w.load_j,
-    ]
-    .map(f64::to_bits)
-    .to_vec()
+    s.work.to_array().map(f64::to_bits).to_vec()
 }
 
 /// Steps the block `steps` times, output on every step or on none, with the lid's forces

@@ -622,19 +622,7 @@ pub fn write_checkpoint(solver: &Solver, aux_state: &[f64], path: &Path) -> Resu
             }
         }
     }
-    let w = &solver.work;
-    for x in [
-        w.internal_j,
-        w.aux_j,
-        w.gravity_j,
-        w.mass_damping_j,
-        w.reaction_j,
-        w.spring_j,
-        w.spring_damping_j,
-        w.load_j,
-        w.torque_j,
-        w.initial_j,
-    ] {
+    for x in solver.work.to_array() {
         put(&mut buf, x);
     }
     for r in &solver.rigid {
@@ -724,18 +712,11 @@ pub fn read_checkpoint(solver: &mut Solver, path: &Path) -> Result<Vec<f64>> {
     let u = read_vecs(&bytes)?;
     let v = read_vecs(&bytes)?;
     let mut f = |bytes: &[u8]| -> Result<f64> { Ok(f64::from_le_bytes(word(bytes)?)) };
-    let work = WorkTotals {
-        internal_j: f(&bytes)?,
-        aux_j: f(&bytes)?,
-        gravity_j: f(&bytes)?,
-        mass_damping_j: f(&bytes)?,
-        reaction_j: f(&bytes)?,
-        spring_j: f(&bytes)?,
-        spring_damping_j: f(&bytes)?,
-        load_j: f(&bytes)?,
-        torque_j: f(&bytes)?,
-        initial_j: f(&bytes)?,
-    };
+    let mut terms = [0.0; 10];
+    for t in terms.iter_mut() {
+        *t = f(&bytes)?;
+    }
+    let work = WorkTotals::from_array(terms);
     let mut rigid = Vec::with_capacity(n_rigid);
     for _ in 0..n_rigid {
         let mass_kg = f(&bytes)?;

@@ -61,6 +61,39 @@ pub struct WorkTotals {
 }
 
 impl WorkTotals {
+    /// The totals in a fixed order (a checkpoint's): internal, auxiliary, gravity, mass
+    /// damping, reaction, spring, spring damping, load, torque, initial.
+    pub fn to_array(&self) -> [f64; 10] {
+        [
+            self.internal_j,
+            self.aux_j,
+            self.gravity_j,
+            self.mass_damping_j,
+            self.reaction_j,
+            self.spring_j,
+            self.spring_damping_j,
+            self.load_j,
+            self.torque_j,
+            self.initial_j,
+        ]
+    }
+
+    /// The totals from [`WorkTotals::to_array`]'s order.
+    pub fn from_array(t: [f64; 10]) -> WorkTotals {
+        WorkTotals {
+            internal_j: t[0],
+            aux_j: t[1],
+            gravity_j: t[2],
+            mass_damping_j: t[3],
+            reaction_j: t[4],
+            spring_j: t[5],
+            spring_damping_j: t[6],
+            load_j: t[7],
+            torque_j: t[8],
+            initial_j: t[9],
+        }
+    }
+
     pub(super) fn add_scaled(&mut self, o: &WorkTotals, s: f64) {
         self.internal_j += s * o.internal_j;
         self.aux_j += s * o.aux_j;
