@@ -538,7 +538,9 @@ impl Solver {
         if energy {
             if let Some(nd) = self.aux_forces_outside_declared() {
                 return Err(Error::Numerical(format!(
-                    "an auxiliary force acts on node {nd}, outside the nodes declared for them                      (AuxForces::force_nodes): it would never be zeroed; declare every node                      the forces act on, or none"
+                    "an auxiliary force acts on node {nd}, outside the nodes declared for them \
+                     (AuxForces::force_nodes): it would never be zeroed; declare every node \
+                     the forces act on, or none"
                 )));
             }
         }
