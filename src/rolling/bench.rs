@@ -164,13 +164,16 @@ pub fn step_profile(
     for _ in 0..steps {
         m.solver.step_with(&mut m.contact, false, false)?;
     }
-    let phase_ms: Vec<(String, f64)> = match m.solver.phase_clock() {
-        Some(clock) => STEP_PHASES
-            .iter()
-            .map(|&p| (p.name().to_string(), clock.seconds(p) * 1e3 / steps as f64))
-            .collect(),
-        None => Vec::new(),
-    };
+    let phase_ms: Vec<(String, f64)> = m
+        .solver
+        .phase_clock()
+        .map(|clock| {
+            STEP_PHASES
+                .iter()
+                .map(|&p| (p.name().to_string(), clock.seconds(p) * 1e3 / steps as f64))
+                .collect()
+        })
+        .unwrap_or_default();
     m.solver.time_phases(false);
     let elements = m.solver.model.elements.len();
     // The engine's levels (module docs of `explicit::multirate`), with and without the
