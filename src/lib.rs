@@ -14,6 +14,7 @@ pub mod geometry;
 pub mod growth;
 pub mod identify;
 pub mod input;
+pub mod iterative;
 pub mod kalker;
 pub mod material;
 pub mod mesh;

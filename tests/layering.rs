@@ -3,7 +3,7 @@
 //!
 //! The stages, earliest first (a module may import its own and earlier ones):
 //! error, input, table, friction, material, output, uff < signal, geometry < mesh < fem < scenario, kalker < model < modal
-//! (with axisym and hammer inside) < explicit < contact < rolling < identify < analysis, growth, stability <
+//! (with axisym and hammer inside), iterative < explicit < contact < rolling < identify < analysis, growth, stability <
 //! report < pipeline. The binary (main.rs, cli/) may import anything.
 //!
 //! What counts as an import: a path `crate::a::b...` or `super::...` in code (comments and
@@ -21,7 +21,7 @@ fn rank(module: &str) -> Option<u32> {
         "fem" => 3,
         "scenario" | "kalker" => 4,
         "model" => 5,
-        "modal" => 6,
+        "modal" | "iterative" => 6,
         "explicit" => 7,
         "contact" => 8,
         "rolling" => 9,

@@ -68,7 +68,8 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub single_rate: bool,
     /// How to find the static preload, instead of the case's `preload.method`: `implicit`
-    /// (Newton's method with a sparse Cholesky) or `dynamic-relaxation`.
+    /// (Newton's method with a sparse Cholesky), `implicit-iterative` (Newton's method with
+    /// conjugate gradients) or `dynamic-relaxation`.
     #[arg(long, value_enum)]
     pub preload: Option<PreloadChoice>,
 }
@@ -80,6 +81,9 @@ pub enum PreloadChoice {
     Implicit,
     /// Dynamic relaxation.
     DynamicRelaxation,
+    /// Newton's method with conjugate gradients instead of a Cholesky factor (for models whose
+    /// factor does not fit in memory).
+    ImplicitIterative,
 }
 
 impl PreloadChoice {
@@ -88,6 +92,7 @@ impl PreloadChoice {
         match self {
             PreloadChoice::Implicit => PreloadMethod::Implicit,
             PreloadChoice::DynamicRelaxation => PreloadMethod::DynamicRelaxation,
+            PreloadChoice::ImplicitIterative => PreloadMethod::ImplicitIterative,
         }
     }
 }

@@ -5,8 +5,8 @@
 
 use super::inertia::negative_pivots;
 pub(crate) use super::tree_solve::FactorKind;
-use super::tree_solve::TreePlan;
-use super::workspace::Workspace;
+pub(crate) use super::tree_solve::TreePlan;
+pub(crate) use super::workspace::Workspace;
 use crate::modal::ordering::nested_dissection;
 use crate::modal::postorder::postordered;
 use crate::{Error, Result};

@@ -80,6 +80,10 @@ pub enum PreloadMethod {
     /// Dynamic relaxation ([`crate::explicit::preload`]): the fallback, for models whose
     /// factor does not fit in memory (the paper-resolution cases).
     DynamicRelaxation,
+    /// Newton's method as `implicit`, each step solved by conjugate gradients with a two-level
+    /// aggregation preconditioner ([`crate::iterative`]) instead of a Cholesky factor: memory
+    /// linear in the model, for the models whose factor does not fit.
+    ImplicitIterative,
 }
 
 /// Static preload: the method, and the settings of dynamic relaxation.

@@ -245,8 +245,9 @@ pub fn preload_profile(
     let friction = m.contact.pair.suspend_friction();
     let stop = super::StopFlag::new();
     let outcome = match method {
-        PreloadMethod::Implicit => {
-            super::preload::implicit_preload(&mut m, &loaded.case.preload, &stop)
+        PreloadMethod::Implicit | PreloadMethod::ImplicitIterative => {
+            let linear_solver = super::preload::linear_solver_of(method);
+            super::preload::implicit_preload(&mut m, &loaded.case.preload, linear_solver, &stop)
                 .map(|r| (r.iterations as u64, r.factor_entries, r.relative_residual))
         }
         PreloadMethod::DynamicRelaxation => {

@@ -41,7 +41,7 @@ use crate::model::case::{MultiRateMode, PreloadMethod};
 use crate::{Error, Result};
 use drive::{hold_forward_speed, loaded_centre_and_radius, prescribe_creepage};
 use instruments::ContactPointRecord;
-use preload::{implicit_preload, relaxation_preload};
+use preload::{implicit_preload, linear_solver_of, relaxation_preload};
 
 pub use crate::explicit::run::StopFlag;
 pub use crate::model::case::{embedded_default_case, load_case, LoadedCase, RollingCase};
@@ -228,10 +228,12 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
             PreloadMethod::DynamicRelaxation => {
                 relaxation_preload(&mut m, &case, opts).map(|r| preload = Some(r))
             }
-            PreloadMethod::Implicit => {
-                implicit_preload(&mut m, &case.preload, &opts.stop).map(|r| {
-                    static_preload = Some(r);
-                })
+            PreloadMethod::Implicit | PreloadMethod::ImplicitIterative => {
+                implicit_preload(&mut m, &case.preload, linear_solver_of(method), &opts.stop).map(
+                    |r| {
+                        static_preload = Some(r);
+                    },
+                )
             }
         };
         m.contact.pair.resume_friction(friction);

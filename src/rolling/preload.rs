@@ -5,7 +5,7 @@
 use super::build::RollingModel;
 use crate::explicit::preload::{relax, PreloadOptions, PreloadReport};
 use crate::explicit::run::StopFlag;
-use crate::explicit::statics::{solve_static, StaticOptions, StaticReport};
+use crate::explicit::statics::{solve_static, LinearSolver, StaticOptions, StaticReport};
 use crate::model::case;
 use crate::{Error, Result};
 
@@ -121,6 +121,15 @@ pub(super) fn relaxation_preload(
     Ok(report)
 }
 
+/// The linear solver of an implicit preload method (`implicit`: Cholesky; `implicit_iterative`:
+/// conjugate gradients; dynamic relaxation solves nothing and gets the default).
+pub(super) fn linear_solver_of(method: case::PreloadMethod) -> LinearSolver {
+    match method {
+        case::PreloadMethod::ImplicitIterative => LinearSolver::Iterative,
+        _ => LinearSolver::Direct,
+    }
+}
+
 /// Static preload by Newton's method ([`crate::explicit::statics`]), frictionless like the
 /// relaxation. The wheelset's translation along the rail is held: on frictionless contact
 /// nothing but the faceting of the meshes resists it (its reaction is reported, and small), and
@@ -131,6 +140,7 @@ pub(super) fn relaxation_preload(
 pub(super) fn implicit_preload(
     m: &mut RollingModel,
     preload: &case::PreloadSpec,
+    linear_solver: LinearSolver,
     stop: &StopFlag,
 ) -> Result<StaticReport> {
     let mut held = vec![[false; 3]; m.solver.model.rigid_bodies.len()];
@@ -141,6 +151,7 @@ pub(super) fn implicit_preload(
         &StaticOptions {
             tolerance: preload.tolerance,
             held_rigid_translations: held,
+            linear_solver,
             trace: std::env::var_os("SQUEAL_PRELOAD_TRACE").is_some(),
             stop: stop.clone(),
             ..Default::default()

@@ -9,6 +9,9 @@
 //! Held directions get no coupling and a unit diagonal scaled to the matrix (their increment
 //! is zero because their residual is).
 
+// Index loops mirror the block layout (direction indices i, k).
+#![allow(clippy::needless_range_loop)]
+
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 
 use super::dofs::ReducedDofs;
@@ -83,6 +86,28 @@ impl Tangent {
     /// c)`, `r >= c`; a diagonal block adds its lower triangle. Entries in held directions are
     /// skipped.
     pub(super) fn add(&mut self, dofs: &ReducedDofs, r: u32, c: u32, block: &Block) {
+        let mut values = std::mem::take(&mut self.values);
+        self.add_to(&mut values, 0, dofs, r, c, block);
+        self.values = values;
+    }
+
+    /// The values of reduced-node columns `c0..c1`: a range of the value array (columns are
+    /// stored one after another).
+    pub(super) fn value_range(&self, c0: usize, c1: usize) -> std::ops::Range<usize> {
+        self.col_ptr[3 * c0]..self.col_ptr[3 * c1]
+    }
+
+    /// [`Tangent::add`] into `values`, the part of the value array that starts at `base` (it
+    /// must hold column `c`'s values).
+    pub(super) fn add_to(
+        &self,
+        values: &mut [f64],
+        base: usize,
+        dofs: &ReducedDofs,
+        r: u32,
+        c: u32,
+        block: &Block,
+    ) {
         debug_assert!(r >= c, "the tangent stores lower blocks");
         let (r, c) = (r as usize, c as usize);
         let rows = &self.block_rows[self.block_ptr[c]..self.block_ptr[c + 1]];
@@ -95,7 +120,7 @@ impl Tangent {
             if held_c[i] {
                 continue;
             }
-            let start = self.col_ptr[3 * c + i];
+            let start = self.col_ptr[3 * c + i] - base;
             for k in 0..3 {
                 if held_r[k] || (p == 0 && k < i) {
                     continue;
@@ -105,7 +130,7 @@ impl Tangent {
                 } else {
                     (3 - i) + 3 * (p - 1) + k
                 };
-                self.values[start + offset] += block[k][i];
+                values[start + offset] += block[k][i];
             }
         }
     }
@@ -123,6 +148,33 @@ impl Tangent {
     /// Zeroes the values (the pattern stays).
     pub(super) fn clear(&mut self) {
         self.values.iter_mut().for_each(|v| *v = 0.0);
+    }
+
+    /// The lower triangle by 3 x 3 node blocks: column starts, block rows (the diagonal block
+    /// first in each column, stored whole) and blocks (`[row direction][column direction]`),
+    /// for [`crate::iterative::BlockMatrix::from_lower_columns`].
+    pub(super) fn lower_blocks(&self) -> (Vec<usize>, Vec<u32>, Vec<Block>) {
+        let n = self.block_ptr.len() - 1;
+        let mut blocks = vec![[[0.0; 3]; 3]; self.block_rows.len()];
+        for c in 0..n {
+            let first = self.block_ptr[c];
+            let count = self.block_ptr[c + 1] - first;
+            for i in 0..3 {
+                let start = self.col_ptr[3 * c + i];
+                // Diagonal block: rows i..3 of column i, mirrored above.
+                for k in i..3 {
+                    let v = self.values[start + k - i];
+                    blocks[first][k][i] = v;
+                    blocks[first][i][k] = v;
+                }
+                for p in 1..count {
+                    for k in 0..3 {
+                        blocks[first + p][k][i] = self.values[start + (3 - i) + 3 * (p - 1) + k];
+                    }
+                }
+            }
+        }
+        (self.block_ptr.clone(), self.block_rows.clone(), blocks)
     }
 
     /// The lower triangle as a faer matrix (its pattern and a copy of the values).

@@ -1,0 +1,278 @@
+//! A symmetric matrix of 3 x 3 node blocks in compressed rows, both triangles stored: the
+//! product `y = A x` is a gather per block row (`y_r = sum_c A_rc x_c`), so rows run in parallel
+//! and each `y_r` is summed in the same order whatever the thread count. Storing both triangles
+//! doubles the memory of a lower-triangle copy and streams the same bytes per product.
+//!
+//! [`SingleBlockMatrix`] is the same matrix with its blocks rounded to single precision (the
+//! products still in double): the preconditioner's products, which need the matrix only to the
+//! accuracy of an approximate inverse, stream half the bytes (the products are limited by
+//! memory bandwidth: 40 bytes a block against 76).
+
+use rayon::prelude::*;
+
+use crate::{Error, Result};
+
+/// A 3 x 3 block: `block[k][i]` couples direction `k` of the row node to direction `i` of the
+/// column node.
+pub type Block3 = [[f64; 3]; 3];
+
+/// A block entry type of the product: double or single precision.
+trait Entry: Copy + Send + Sync {
+    fn wide(self) -> f64;
+}
+
+impl Entry for f64 {
+    #[inline(always)]
+    fn wide(self) -> f64 {
+        self
+    }
+}
+
+impl Entry for f32 {
+    #[inline(always)]
+    fn wide(self) -> f64 {
+        self as f64
+    }
+}
+
+/// `y = A x` over compressed block rows (the one product of both precisions).
+fn block_product<T: Entry>(
+    row_ptr: &[usize],
+    cols: &[u32],
+    blocks: &[[[T; 3]; 3]],
+    x: &[f64],
+    y: &mut [f64],
+) {
+    y.par_chunks_mut(3 * ROWS_PER_TASK)
+        .enumerate()
+        .for_each(|(task, out)| {
+            let first = task * ROWS_PER_TASK;
+            for (k, yr) in out.chunks_exact_mut(3).enumerate() {
+                let r = first + k;
+                let mut sum = [0.0f64; 3];
+                for p in row_ptr[r]..row_ptr[r + 1] {
+                    let c = 3 * cols[p] as usize;
+                    let (x0, x1, x2) = (x[c], x[c + 1], x[c + 2]);
+                    let b = &blocks[p];
+                    for d in 0..3 {
+                        sum[d] += b[d][0].wide() * x0 + b[d][1].wide() * x1 + b[d][2].wide() * x2;
+                    }
+                }
+                yr.copy_from_slice(&sum);
+            }
+        });
+}
+
+/// Rows per parallel task of the product (fixed, so that the work split never depends on the
+/// thread count; the result does not either, being a gather).
+const ROWS_PER_TASK: usize = 2048;
+
+/// Symmetric block matrix (both triangles, rows sorted by column).
+#[derive(Clone, Debug)]
+pub struct BlockMatrix {
+    row_ptr: Vec<usize>,
+    cols: Vec<u32>,
+    blocks: Vec<Block3>,
+    /// Position of each row's diagonal block in `blocks`.
+    diagonal: Vec<usize>,
+}
+
+fn transpose(b: &Block3) -> Block3 {
+    std::array::from_fn(|k| std::array::from_fn(|i| b[i][k]))
+}
+
+impl BlockMatrix {
+    /// From the lower triangle by block columns: column `c`'s blocks are
+    /// `lower_blocks[col_ptr[c]..col_ptr[c + 1]]` at block rows `rows[..]` (each `>= c`, the
+    /// diagonal block `(c, c)` among them, stored whole). Refuses a row above the diagonal, a
+    /// row out of range, a repeated row or a missing diagonal block.
+    pub fn from_lower_columns(
+        n: usize,
+        col_ptr: &[usize],
+        rows: &[u32],
+        lower_blocks: &[Block3],
+    ) -> Result<BlockMatrix> {
+        let bad = |what: String| Err(Error::input("block matrix", "pattern", what));
+        if col_ptr.len() != n + 1 || rows.len() != lower_blocks.len() || col_ptr[n] != rows.len() {
+            return bad(format!(
+                "{} column starts for {n} columns, {} rows, {} blocks",
+                col_ptr.len(),
+                rows.len(),
+                lower_blocks.len()
+            ));
+        }
+        let mut count = vec![0usize; n + 1];
+        for c in 0..n {
+            if col_ptr[c] > col_ptr[c + 1] {
+                return bad(format!("column {c} ends before it starts"));
+            }
+            let mut has_diagonal = false;
+            for &r in &rows[col_ptr[c]..col_ptr[c + 1]] {
+                let r = r as usize;
+                if r < c || r >= n {
+                    return bad(format!(
+                        "column {c} has block row {r}: rows must lie in [{c}, {n})"
+                    ));
+                }
+                has_diagonal |= r == c;
+                count[r + 1] += 1;
+                if r != c {
+                    count[c + 1] += 1;
+                }
+            }
+            if !has_diagonal {
+                return bad(format!("column {c} has no diagonal block"));
+            }
+        }
+        for r in 0..n {
+            count[r + 1] += count[r];
+        }
+        let row_ptr = count.clone();
+        let total = row_ptr[n];
+        let mut next = count;
+        let mut cols = vec![0u32; total];
+        let mut blocks = vec![[[0.0; 3]; 3]; total];
+        // Columns in increasing order: each row receives its columns sorted (the upper
+        // triangle's entries of row c, from its own column c, come after its lower ones).
+        for c in 0..n {
+            for p in col_ptr[c]..col_ptr[c + 1] {
+                let r = rows[p] as usize;
+                let b = &lower_blocks[p];
+                cols[next[r]] = c as u32;
+                blocks[next[r]] = *b;
+                next[r] += 1;
+                if r != c {
+                    cols[next[c]] = r as u32;
+                    blocks[next[c]] = transpose(b);
+                    next[c] += 1;
+                }
+            }
+        }
+        let mut diagonal = vec![0usize; n];
+        for r in 0..n {
+            let row = &cols[row_ptr[r]..row_ptr[r + 1]];
+            if row.windows(2).any(|w| w[0] >= w[1]) {
+                return bad(format!("block row {r} has a repeated column"));
+            }
+            diagonal[r] = row_ptr[r] + row.partition_point(|&c| (c as usize) < r);
+        }
+        Ok(BlockMatrix {
+            row_ptr,
+            cols,
+            blocks,
+            diagonal,
+        })
+    }
+
+    /// From a dense symmetric matrix of `3 n` rows (column major): every block with a non-zero
+    /// entry, and the diagonal blocks (tests and small problems).
+    pub fn from_dense(n: usize, a: &[f64]) -> Result<BlockMatrix> {
+        if a.len() != 9 * n * n {
+            return Err(Error::input(
+                "block matrix",
+                "dense",
+                format!("{} entries for {} rows", a.len(), 3 * n),
+            ));
+        }
+        let at = |i: usize, j: usize| a[i + 3 * n * j];
+        let (mut col_ptr, mut rows, mut blocks) = (vec![0usize], Vec::new(), Vec::new());
+        for c in 0..n {
+            for r in c..n {
+                let b: Block3 =
+                    std::array::from_fn(|k| std::array::from_fn(|i| at(3 * r + k, 3 * c + i)));
+                if r == c || b.iter().flatten().any(|&v| v != 0.0) {
+                    rows.push(r as u32);
+                    blocks.push(b);
+                }
+            }
+            col_ptr.push(rows.len());
+        }
+        BlockMatrix::from_lower_columns(n, &col_ptr, &rows, &blocks)
+    }
+
+    /// Number of block rows (nodes); the matrix has `3 n` rows.
+    pub fn nodes(&self) -> usize {
+        self.row_ptr.len() - 1
+    }
+
+    /// Stored blocks (both triangles).
+    pub fn stored_blocks(&self) -> usize {
+        self.blocks.len()
+    }
+
+    /// Bytes held by the matrix.
+    pub fn bytes(&self) -> usize {
+        self.blocks.len() * std::mem::size_of::<Block3>()
+            + self.cols.len() * 4
+            + (self.row_ptr.len() + self.diagonal.len()) * std::mem::size_of::<usize>()
+    }
+
+    /// Column nodes of block row `r` (sorted) and their blocks.
+    pub fn row(&self, r: usize) -> (&[u32], &[Block3]) {
+        let range = self.row_ptr[r]..self.row_ptr[r + 1];
+        (&self.cols[range.clone()], &self.blocks[range])
+    }
+
+    /// The diagonal block of node `r`.
+    pub fn diagonal_block(&self, r: usize) -> &Block3 {
+        &self.blocks[self.diagonal[r]]
+    }
+
+    /// `y = A x` (`3 n` entries each).
+    pub fn apply(&self, x: &[f64], y: &mut [f64]) {
+        debug_assert_eq!(x.len(), 3 * self.nodes());
+        block_product(&self.row_ptr, &self.cols, &self.blocks, x, y);
+    }
+
+    /// The matrix with its blocks in single precision (its diagonal blocks kept in double).
+    pub fn to_single(&self) -> SingleBlockMatrix {
+        SingleBlockMatrix {
+            row_ptr: self.row_ptr.clone(),
+            cols: self.cols.clone(),
+            blocks: self
+                .blocks
+                .par_iter()
+                .map(|b| b.map(|row| row.map(|v| v as f32)))
+                .collect(),
+            diagonal: self.diagonal.iter().map(|&p| self.blocks[p]).collect(),
+        }
+    }
+}
+
+/// A [`BlockMatrix`] with single-precision blocks, for the preconditioner's products.
+#[derive(Clone, Debug)]
+pub struct SingleBlockMatrix {
+    row_ptr: Vec<usize>,
+    cols: Vec<u32>,
+    blocks: Vec<[[f32; 3]; 3]>,
+    /// The diagonal blocks in double precision.
+    diagonal: Vec<Block3>,
+}
+
+impl SingleBlockMatrix {
+    /// A matrix of no nodes (a placeholder while a new copy is made).
+    pub fn empty() -> SingleBlockMatrix {
+        SingleBlockMatrix {
+            row_ptr: vec![0],
+            cols: Vec::new(),
+            blocks: Vec::new(),
+            diagonal: Vec::new(),
+        }
+    }
+
+    /// Number of block rows (nodes).
+    pub fn nodes(&self) -> usize {
+        self.row_ptr.len() - 1
+    }
+
+    /// The diagonal block of node `r` (double precision).
+    pub fn diagonal_block(&self, r: usize) -> &Block3 {
+        &self.diagonal[r]
+    }
+
+    /// `y = Ã x` with the rounded blocks, summed in double precision.
+    pub fn apply(&self, x: &[f64], y: &mut [f64]) {
+        debug_assert_eq!(x.len(), 3 * self.nodes());
+        block_product(&self.row_ptr, &self.cols, &self.blocks, x, y);
+    }
+}
