@@ -8,6 +8,7 @@ use squeal::iterative::block_matrix::Block3;
 use squeal::iterative::pcg::{dot, Identity};
 use squeal::iterative::{conjugate_gradients, BlockMatrix, PcgOptions, TwoLevel, TwoLevelOptions};
 use squeal::material::Material;
+use squeal::mesh::hex::structured;
 use squeal::random::XorShift64;
 use std::collections::BTreeMap;
 
@@ -53,16 +54,7 @@ fn beam(nx: usize, ny: usize, nz: usize, length_m: f64, grading: f64) -> Beam {
         for j in 0..ny {
             for i in 0..nx {
                 // VTK order: bottom face counter-clockwise, then the top face.
-                let nodes = [
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1),
-                ];
+                let nodes = structured(i, j, k, id);
                 let x = nodes.map(|n| coords[n]);
                 let em = element_matrices(&x, &Material::steel(), true).expect("valid element");
                 elements.push((nodes, em.k));
