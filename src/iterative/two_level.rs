@@ -55,9 +55,10 @@ pub struct TwoLevelStats {
     pub smoother_interval: (f64, f64),
     /// Seconds of the set-up.
     pub setup_seconds: f64,
-    /// Seconds of the applications so far: smoothing (with its residual products), and the
-    /// coarse correction (restriction, solve, prolongation, its residual product).
+    /// Seconds of the applications so far in smoothing (with its residual products).
     pub smoothing_seconds: f64,
+    /// Seconds of the applications so far in the coarse correction (restriction, solve,
+    /// prolongation, its residual product).
     pub coarse_seconds: f64,
 }
 

@@ -130,7 +130,7 @@ pub struct StaticReport {
     pub relative_residual: f64,
     /// Unknowns of the reduced problem.
     pub unknowns: usize,
-    /// Entries of the Cholesky factor.
+    /// Entries of the Cholesky factor (the iterative solver: of its coarse matrix's factor).
     pub factor_entries: usize,
     /// Rank-one (contact) terms in the last tangent.
     pub contact_terms: usize,
