@@ -254,11 +254,7 @@ fn one_point_cantilever_bends_like_a_beam() {
 }
 
 fn small_dynamic_run(threads: usize, beta_s: f64) -> Vec<[f64; 3]> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap();
-    pool.install(|| {
+    common::on_threads(threads, || {
         let mesh = cuboid([30, 8, 6], [0.3, 0.08, 0.06], 1);
         let mut m = model(mesh, Formulation::default());
         m.fix_set("x0", [true, true, true]).unwrap();

@@ -10,6 +10,8 @@ use squeal::explicit::{Formulation, Model, NoAux, Solver};
 use squeal::material::Material;
 use squeal::mesh::cuboid;
 
+mod common;
+
 /// Fine elements (1 mm) along the first 0.3 m, coarse (4 mm) along the next 0.6 m, a 10 x 10
 /// mm section of 2 x 2 elements, every node held across the bar: a one-dimensional
 /// (uniaxial-strain) wave guide whose waves travel at the dilatational speed without
@@ -275,11 +277,7 @@ fn energy_balance_holds_over_a_long_subcycled_run() {
 #[test]
 fn subcycled_results_do_not_depend_on_the_thread_count() {
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        common::on_threads(threads, || {
             let mut s = solver(true);
             launch(&mut s, 0.1);
             for _ in 0..500 {

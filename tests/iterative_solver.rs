@@ -12,6 +12,8 @@ use squeal::mesh::hex::structured;
 use squeal::random::XorShift64;
 use std::collections::BTreeMap;
 
+mod common;
+
 /// A hexahedral beam `[0, L] x [0, 0.1] x [0, 0.1]` m, `nx x ny x nz` elements, graded along x
 /// (element lengths growing geometrically by `grading` over the length), clamped at x = 0,
 /// with its element stiffnesses; nodes numbered x-fastest.
@@ -287,11 +289,7 @@ fn two_level_cg_does_not_depend_on_the_thread_count() {
     let a = beam.matrix();
     let b = beam.tip_load(1e4);
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        common::on_threads(threads, || {
             let mut pre =
                 TwoLevel::new(&a, &beam.coords, &beam.held, &TwoLevelOptions::default()).unwrap();
             let mut x = vec![0.0; b.len()];

@@ -1,4 +1,7 @@
-//! Scenes shared by more than one test file.
+//! Scenes and helpers shared by more than one test file.
+
+// Each test file uses some of them.
+#![allow(dead_code)]
 use squeal::mesh::{cuboid, Mesh};
 
 /// A plate (`plate_divisions` elements over `plate_size_m`, material 1, its bottom at z = 0) with
@@ -61,4 +64,13 @@ pub fn tied_block_on_plate(block_divisions: [usize; 3]) -> (Mesh, Vec<usize>, us
         .filter(|&n| n < offset)
         .collect();
     (mesh, slaves, offset, base)
+}
+
+/// `f` run on a rayon pool of `threads` threads (the thread-count independence tests).
+pub fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool")
+        .install(f)
 }
