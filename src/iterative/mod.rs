@@ -5,8 +5,9 @@
 //!
 //! - [`block_matrix`]: the matrix, by node blocks, and its product with a vector.
 //! - [`aggregation`]: nodes grouped into aggregates along strong couplings.
-//! - [`coarse`]: the coarse space (the six rigid-body motions of each aggregate), the Galerkin
-//!   coarse matrix `Pᵀ A P` and its Cholesky factor.
+//! - [`prolongator`]: the coarse space (the six rigid-body motions of each aggregate), its
+//!   restriction and prolongation, and the Galerkin coarse matrix `Pᵀ A P`.
+//! - [`coarse`]: the coarse matrix's Cholesky factor and solve.
 //! - [`smoother`]: Chebyshev smoothing on the block diagonal.
 //! - [`two_level`]: the preconditioner, a symmetric two-level V-cycle:
 //!   `I - B A = (I - S A)(I - P A_c⁻¹ Pᵀ A)(I - S A)`.
@@ -22,6 +23,7 @@ pub mod aggregation;
 pub mod block_matrix;
 pub mod coarse;
 pub mod pcg;
+pub mod prolongator;
 pub mod smoother;
 pub mod two_level;
 

@@ -30,17 +30,18 @@ pub fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
         .for_each(|(yc, xc)| yc.iter_mut().zip(xc).for_each(|(yi, xi)| *yi += alpha * xi));
 }
 
-/// A symmetric positive definite approximation `B ≈ A⁻¹`.
+/// A symmetric positive definite approximation `B ≈ A⁻¹` of the matrix it was made for (it
+/// keeps what it needs of that matrix).
 pub trait Preconditioner {
     /// `z = B r`.
-    fn apply(&mut self, a: &BlockMatrix, r: &[f64], z: &mut [f64]);
+    fn apply(&mut self, r: &[f64], z: &mut [f64]);
 }
 
 /// No preconditioning (`B = I`): the reference the preconditioners are compared against.
 pub struct Identity;
 
 impl Preconditioner for Identity {
-    fn apply(&mut self, _a: &BlockMatrix, r: &[f64], z: &mut [f64]) {
+    fn apply(&mut self, r: &[f64], z: &mut [f64]) {
         z.copy_from_slice(r);
     }
 }
@@ -107,7 +108,7 @@ pub fn conjugate_gradients<P: Preconditioner + ?Sized>(
             relative_residual: relative,
         });
     }
-    preconditioner.apply(a, &r, &mut z);
+    preconditioner.apply(&r, &mut z);
     p.copy_from_slice(&z);
     let mut rz = dot(&r, &z);
     for iteration in 1..=opts.max_iterations {
@@ -134,7 +135,7 @@ pub fn conjugate_gradients<P: Preconditioner + ?Sized>(
                 relative_residual: relative,
             });
         }
-        preconditioner.apply(a, &r, &mut z);
+        preconditioner.apply(&r, &mut z);
         let rz_new = dot(&r, &z);
         let beta = rz_new / rz;
         rz = rz_new;

@@ -124,7 +124,7 @@ impl TwoLevel {
 }
 
 impl Preconditioner for TwoLevel {
-    fn apply(&mut self, _a: &BlockMatrix, r: &[f64], z: &mut [f64]) {
+    fn apply(&mut self, r: &[f64], z: &mut [f64]) {
         let a = &self.single;
         // Pre-smoothing: z = S r, residual = r - A z.
         let t0 = Instant::now();
@@ -133,10 +133,12 @@ impl Preconditioner for TwoLevel {
         let t1 = Instant::now();
         // Coarse correction.
         self.coarse
+            .prolongator()
             .restrict(&self.residual, &mut self.coarse_vector);
         self.coarse.solve(&mut self.coarse_vector);
         self.correction.iter_mut().for_each(|v| *v = 0.0);
         self.coarse
+            .prolongator()
             .prolongate_add(&self.coarse_vector, &mut self.correction);
         axpy(1.0, &self.correction, z);
         a.apply(&self.correction, &mut self.product);
