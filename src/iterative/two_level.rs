@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use super::aggregation::Aggregates;
 use super::block_matrix::{BlockMatrix, SingleBlockMatrix};
-use super::coarse::CoarseSpace;
+use super::coarse::{CoarseSetupSeconds, CoarseSpace};
 use super::pcg::{axpy, Preconditioner};
 use super::smoother::Chebyshev;
 use crate::Result;
@@ -55,6 +55,12 @@ pub struct TwoLevelStats {
     pub smoother_interval: (f64, f64),
     /// Seconds of the set-up.
     pub setup_seconds: f64,
+    /// Of which: the single-precision copy and the smoother (its interval's Lanczos steps).
+    pub smoother_setup_seconds: f64,
+    /// The aggregation.
+    pub aggregation_seconds: f64,
+    /// The coarse level, by part.
+    pub coarse_setup_seconds: CoarseSetupSeconds,
     /// Seconds of the applications so far in smoothing (with its residual products).
     pub smoothing_seconds: f64,
     /// Seconds of the applications so far in the coarse correction (restriction, solve,
@@ -88,7 +94,10 @@ impl TwoLevel {
         // The smoother first: it checks every diagonal block.
         let single = a.to_single();
         let smoother = Chebyshev::new(&single, opts.smoother_degree, opts.smoother_ratio)?;
+        let smoother_setup_seconds = start.elapsed().as_secs_f64();
+        let t = Instant::now();
         let aggregates = Aggregates::new(a, opts.strength_threshold);
+        let aggregation_seconds = t.elapsed().as_secs_f64();
         let coarse = CoarseSpace::new(a, &aggregates, coords_m, held)?;
         let n3 = 3 * a.nodes();
         let stats = TwoLevelStats {
@@ -97,6 +106,9 @@ impl TwoLevel {
             coarse_factor_entries: coarse.factor_entries(),
             smoother_interval: smoother.interval(),
             setup_seconds: start.elapsed().as_secs_f64(),
+            smoother_setup_seconds,
+            aggregation_seconds,
+            coarse_setup_seconds: coarse.setup_seconds(),
             smoothing_seconds: 0.0,
             coarse_seconds: 0.0,
         };

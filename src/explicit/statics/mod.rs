@@ -32,6 +32,7 @@
 
 mod dofs;
 mod element_assembly;
+mod forcing;
 mod stiffness;
 
 use std::time::Instant;
@@ -105,17 +106,13 @@ pub enum LinearSolver {
     Direct,
     /// Conjugate gradients with the two-level aggregation preconditioner
     /// ([`crate::iterative`]): memory linear in the model, for models whose factor does not
-    /// fit. Each step is solved to [`LINEAR_TOLERANCE`]; the converged state is the direct
-    /// solver's to the Newton tolerance.
+    /// fit. Each step is solved to its forcing term ([`forcing_term`]: between
+    /// [`LINEAR_TOLERANCE`] and [`FORCING_MAX`], tighter as the residual falls faster); the
+    /// converged state is the direct solver's to the Newton tolerance.
     Iterative,
 }
 
-/// The relative residual `|K_T dq - R| / |R|` each iterative linear solve reaches: 1e-3, an
-/// order below the modified Newton iteration's own contraction per step (0.01-0.25 on the
-/// rolling models: the tangent leaves out the geometric and contact-rotation terms), so that
-/// the linear error does not slow it; a tighter solve would buy nothing, since the residual the
-/// iteration stops on is the full one, evaluated afresh each step.
-pub const LINEAR_TOLERANCE: f64 = 1e-3;
+pub use forcing::{forcing_term, FORCING_MAX, LINEAR_TOLERANCE};
 
 /// What the static solve did.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -231,6 +228,8 @@ pub fn solve_static<A: AuxForces + ?Sized>(
     // active set (a slave that came into contact since has no stiffness in it, and the step
     // would let its body fly off on the regularisation).
     let mut factor_signature: Vec<[usize; 5]> = Vec::new();
+    // The previous iteration's relative residual (the forcing terms follow its fall).
+    let mut previous_relative: Option<f64> = None;
     loop {
         solver.gather_forces(aux, t0, dt);
         let reference = dofs.residual(solver, &mut residual);
@@ -359,7 +358,7 @@ pub fn solve_static<A: AuxForces + ?Sized>(
             } => {
                 let cg_start = Instant::now();
                 let cg_options = PcgOptions {
-                    tolerance: LINEAR_TOLERANCE,
+                    tolerance: forcing_term(relative, previous_relative, opts.tolerance),
                     max_iterations: CG_ITERATIONS,
                 };
                 increment.iter_mut().for_each(|v| *v = 0.0);
@@ -395,10 +394,11 @@ pub fn solve_static<A: AuxForces + ?Sized>(
                 if opts.trace {
                     let st = preconditioner.stats();
                     eprintln!(
-                        "  conjugate gradients: {} iterations to {:.2e}, {:.1} s (preconditioner \
-                         so far: smoothing {:.1} s, coarse correction {:.1} s)",
+                        "  conjugate gradients: {} iterations to {:.2e} (asked {:.2e}), {:.1} s \
+                         (preconditioner so far: smoothing {:.1} s, coarse correction {:.1} s)",
                         pcg.iterations,
                         pcg.relative_residual,
+                        cg_options.tolerance,
                         cg_start.elapsed().as_secs_f64(),
                         st.smoothing_seconds,
                         st.coarse_seconds
@@ -439,10 +439,12 @@ pub fn solve_static<A: AuxForces + ?Sized>(
                 &increment[3 * at..3 * at + 3]
             );
         }
-        if regularisation_energy > 0.5 * step_energy {
-            cap_increment(&mut increment, opts.max_increment_m);
-        }
+        let capped = regularisation_energy > 0.5 * step_energy
+            && cap_increment(&mut increment, opts.max_increment_m);
         dofs.apply_increment(solver, &increment);
+        // A capped step is no Newton step: the residual's fall across it says nothing of the
+        // iteration's convergence, so the next forcing term starts afresh, as the first does.
+        previous_relative = if capped { None } else { Some(relative) };
         report.iterations += 1;
     }
     // Reactions of held rigid translations: the out-of-balance force the constraint takes.
@@ -667,8 +669,8 @@ fn solve(symbolic: &SymbolicCholesky<usize>, l_values: &[f64], x: &mut [f64]) {
     );
 }
 
-/// Scales the increment so that no reduced node moves more than `limit_m`.
-fn cap_increment(dq: &mut [f64], limit_m: f64) {
+/// Scales the increment so that no reduced node moves more than `limit_m`; true if it did.
+fn cap_increment(dq: &mut [f64], limit_m: f64) -> bool {
     let largest = dq
         .chunks(3)
         .map(|d| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
@@ -676,7 +678,9 @@ fn cap_increment(dq: &mut [f64], limit_m: f64) {
     if largest > limit_m {
         let s = limit_m / largest;
         dq.iter_mut().for_each(|x| *x *= s);
+        return true;
     }
+    false
 }
 
 /// Pair keys of a list of mesh nodes (every pair of their reduced nodes).
