@@ -47,9 +47,10 @@ pub fn forcing_term(relative: f64, previous: Option<f64>, newton_tolerance: f64)
     } else {
         FORCING_MAX
     };
+    // `f64::max` drops a NaN operand: a NaN ratio leaves the no-oversolving bound, which is
+    // finite (`relative > 0` failing takes the cap), so the clamp below sees a number.
     let eta = eisenstat_walker.max(no_oversolving);
-    // `max` then `min` (not `clamp`): a NaN ratio ends at the bounds, not in the solver.
-    eta.max(LINEAR_TOLERANCE).min(FORCING_MAX)
+    eta.clamp(LINEAR_TOLERANCE, FORCING_MAX)
 }
 
 #[cfg(test)]
