@@ -190,6 +190,53 @@ impl BlockMatrix {
         BlockMatrix::from_lower_columns(n, &col_ptr, &rows, &blocks)
     }
 
+    /// Sets every stored block `(r, c)` to `block_of(r, c)`, the pattern kept: a matrix whose
+    /// values changed on the same pattern (the next Newton step's tangent) without building
+    /// its rows again. Rows are filled in parallel, each block by its own call, so the result
+    /// does not depend on the thread count. Fails, naming the block, if `block_of` has none.
+    pub fn refill<F>(&mut self, block_of: F) -> Result<()>
+    where
+        F: Fn(usize, usize) -> Option<Block3> + Sync,
+    {
+        let n = self.nodes();
+        // Carve the blocks into the rows of fixed row ranges (disjoint slices).
+        let mut parts: Vec<(usize, &mut [Block3])> = Vec::new();
+        let mut rest: &mut [Block3] = &mut self.blocks;
+        for first in (0..n).step_by(ROWS_PER_TASK) {
+            let last = (first + ROWS_PER_TASK).min(n);
+            let (head, tail) =
+                std::mem::take(&mut rest).split_at_mut(self.row_ptr[last] - self.row_ptr[first]);
+            parts.push((first, head));
+            rest = tail;
+        }
+        let (row_ptr, cols) = (&self.row_ptr, &self.cols);
+        let missing: Option<(usize, usize)> = parts
+            .into_par_iter()
+            .map(|(first, blocks)| {
+                let base = row_ptr[first];
+                let last = (first + ROWS_PER_TASK).min(n);
+                for r in first..last {
+                    for p in row_ptr[r]..row_ptr[r + 1] {
+                        let c = cols[p] as usize;
+                        match block_of(r, c) {
+                            Some(b) => blocks[p - base] = b,
+                            None => return Some((r, c)),
+                        }
+                    }
+                }
+                None
+            })
+            .reduce(|| None, |a, b| a.or(b));
+        match missing {
+            None => Ok(()),
+            Some((r, c)) => Err(Error::input(
+                "block matrix",
+                "refill",
+                format!("no block ({r}, {c}) for the stored pattern"),
+            )),
+        }
+    }
+
     /// Number of block rows (nodes); the matrix has `3 n` rows.
     pub fn nodes(&self) -> usize {
         self.row_ptr.len() - 1

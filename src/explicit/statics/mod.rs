@@ -333,7 +333,10 @@ pub fn solve_static<A: AuxForces + ?Sized>(
                         &dofs,
                         tg,
                         factor.take(),
-                        contact_terms,
+                        TangentChange {
+                            pattern_changed: rebuild,
+                            contact_terms,
+                        },
                         opts,
                         &mut report,
                     )?
@@ -576,6 +579,15 @@ fn direct_factor(
     Ok(Factor::Cholesky { symbolic, l_values })
 }
 
+/// What the tangent of a new factor is, against the previous one's.
+struct TangentChange {
+    /// A new pattern (the contact reached nodes outside the reserved ring): the block matrix is
+    /// built anew; otherwise its values are refilled in place.
+    pattern_changed: bool,
+    /// Rank-one (contact) terms in the tangent.
+    contact_terms: usize,
+}
+
 /// The tangent as a block matrix and its two-level preconditioner (coordinates: the reduced
 /// nodes' current positions, a rigid body's at its centre).
 ///
@@ -591,34 +603,56 @@ fn iterative_factor(
     dofs: &ReducedDofs,
     tg: &Tangent,
     previous: Option<Factor>,
-    contact_terms: usize,
+    change: TangentChange,
     opts: &StaticOptions,
     report: &mut StaticReport,
 ) -> Result<Factor> {
-    // The previous matrix goes before the new one is made; its preconditioner may stay.
-    let kept = match previous {
+    // The previous matrix goes before a new one is made (or is refilled, on the same
+    // pattern); its preconditioner may stay.
+    let (kept, previous_matrix) = match previous {
         Some(Factor::Iterative {
             matrix,
             preconditioner,
             preconditioner_contact_terms,
             ..
-        }) if preconditioner_contact_terms > 0 && contact_terms > 0 => {
-            drop(matrix);
-            Some((preconditioner, preconditioner_contact_terms))
+        }) => {
+            let matrix = if change.pattern_changed {
+                drop(matrix);
+                None
+            } else {
+                Some(matrix)
+            };
+            let kept = (preconditioner_contact_terms > 0 && change.contact_terms > 0)
+                .then_some((preconditioner, preconditioner_contact_terms));
+            (kept, matrix)
         }
         other => {
             drop(other);
-            None
+            (None, None)
         }
     };
-    let (col_ptr, rows, blocks) = tg.lower_blocks();
-    let matrix = BlockMatrix::from_lower_columns(dofs.len(), &col_ptr, &rows, &blocks)?;
-    drop(blocks);
+    let conversion = Instant::now();
+    let matrix = match previous_matrix {
+        Some(mut matrix) => {
+            matrix.refill(|r, c| tg.block(r, c))?;
+            matrix
+        }
+        None => {
+            let (col_ptr, rows, blocks) = tg.lower_blocks();
+            BlockMatrix::from_lower_columns(dofs.len(), &col_ptr, &rows, &blocks)?
+        }
+    };
+    if opts.trace {
+        eprintln!(
+            "  block matrix from the tangent: {:.2} s",
+            conversion.elapsed().as_secs_f64()
+        );
+    }
     let (preconditioner, preconditioner_contact_terms, fresh) = match kept {
         Some(k) if k.0.nodes() == matrix.nodes() => (k.0, k.1, false),
         _ => (
             new_preconditioner(solver, dofs, &matrix, opts, report)?,
-            contact_terms,
+            change.contact_terms,
             true,
         ),
     };

@@ -155,26 +155,49 @@ impl Tangent {
     /// for [`crate::iterative::BlockMatrix::from_lower_columns`].
     pub(super) fn lower_blocks(&self) -> (Vec<usize>, Vec<u32>, Vec<Block>) {
         let n = self.block_ptr.len() - 1;
-        let mut blocks = vec![[[0.0; 3]; 3]; self.block_rows.len()];
+        let mut blocks = Vec::with_capacity(self.block_rows.len());
         for c in 0..n {
-            let first = self.block_ptr[c];
-            let count = self.block_ptr[c + 1] - first;
-            for i in 0..3 {
-                let start = self.col_ptr[3 * c + i];
-                // Diagonal block: rows i..3 of column i, mirrored above.
-                for k in i..3 {
-                    let v = self.values[start + k - i];
-                    blocks[first][k][i] = v;
-                    blocks[first][i][k] = v;
-                }
-                for p in 1..count {
-                    for k in 0..3 {
-                        blocks[first + p][k][i] = self.values[start + (3 - i) + 3 * (p - 1) + k];
-                    }
-                }
+            for p in 0..self.block_ptr[c + 1] - self.block_ptr[c] {
+                blocks.push(self.block_at(c, p));
             }
         }
         (self.block_ptr.clone(), self.block_rows.clone(), blocks)
+    }
+
+    /// The node block `(r, c)` (`[row direction][column direction]`), either triangle: the
+    /// stored lower block, transposed above the diagonal, the diagonal block whole. None when
+    /// the pattern lacks it.
+    pub(super) fn block(&self, r: usize, c: usize) -> Option<Block> {
+        let (low, high) = if r >= c { (c, r) } else { (r, c) };
+        let rows = &self.block_rows[self.block_ptr[low]..self.block_ptr[low + 1]];
+        let p = rows.binary_search(&(high as u32)).ok()?;
+        let b = self.block_at(low, p);
+        Some(if r >= c {
+            b
+        } else {
+            std::array::from_fn(|k| std::array::from_fn(|i| b[i][k]))
+        })
+    }
+
+    /// The `p`-th lower block of node column `c` (`p = 0`: the diagonal block, mirrored).
+    fn block_at(&self, c: usize, p: usize) -> Block {
+        let mut b = [[0.0; 3]; 3];
+        for i in 0..3 {
+            let start = self.col_ptr[3 * c + i];
+            if p == 0 {
+                // Rows i..3 of column i, mirrored above.
+                for k in i..3 {
+                    let v = self.values[start + k - i];
+                    b[k][i] = v;
+                    b[i][k] = v;
+                }
+            } else {
+                for k in 0..3 {
+                    b[k][i] = self.values[start + (3 - i) + 3 * (p - 1) + k];
+                }
+            }
+        }
+        b
     }
 
     /// The lower triangle as a faer matrix (its pattern and a copy of the values).
@@ -203,5 +226,90 @@ impl Tangent {
         }
         let symbolic = SymbolicSparseColMat::new_checked(n, n, self.col_ptr.clone(), None, row_idx);
         Ok(SparseColMat::new(symbolic, self.values.clone()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::iterative::BlockMatrix;
+
+    /// A tangent on a banded node graph (couplings at distances 1, 7 and 50) with seeded
+    /// pseudo-random values.
+    fn tangent(n: usize, seed: u64) -> Tangent {
+        let mut keys: Vec<u64> = Vec::new();
+        for c in 0..n {
+            for d in [0, 1, 7, 50] {
+                if c + d < n {
+                    keys.push(pair_key((c + d) as u32, c as u32));
+                }
+            }
+        }
+        keys.sort_unstable();
+        keys.dedup();
+        let mut tg = Tangent::from_keys(n, &keys);
+        let mut state = seed;
+        for v in tg.values.iter_mut() {
+            // Knuth's MMIX linear congruential generator, top bits to [-1, 1).
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            *v = (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0;
+        }
+        tg
+    }
+
+    fn build(tg: &Tangent) -> BlockMatrix {
+        let (col_ptr, rows, blocks) = tg.lower_blocks();
+        BlockMatrix::from_lower_columns(col_ptr.len() - 1, &col_ptr, &rows, &blocks).unwrap()
+    }
+
+    /// The Newton loop's refill of a kept block matrix (`Tangent::block` for each stored
+    /// block, rows in parallel tasks of 2048) against building the matrix of the new values
+    /// afresh: bit for bit, over more rows than one task holds.
+    #[test]
+    fn refilled_block_matrix_is_the_rebuilt_one_bit_for_bit() {
+        let n = 5000;
+        let (first, second) = (tangent(n, 1), tangent(n, 2));
+        let mut refilled = build(&first);
+        refilled.refill(|r, c| second.block(r, c)).unwrap();
+        let rebuilt = build(&second);
+        assert_eq!(refilled.stored_blocks(), rebuilt.stored_blocks());
+        let mut compared = 0;
+        for r in 0..n {
+            let (cols_a, blocks_a) = refilled.row(r);
+            let (cols_b, blocks_b) = rebuilt.row(r);
+            assert_eq!(cols_a, cols_b, "row {r}");
+            for (a, b) in blocks_a.iter().zip(blocks_b) {
+                let same = a
+                    .iter()
+                    .flatten()
+                    .zip(b.iter().flatten())
+                    .all(|(x, y)| x.to_bits() == y.to_bits());
+                assert!(same, "row {r}: {a:?} against {b:?}");
+                compared += 1;
+            }
+        }
+        assert_eq!(compared, rebuilt.stored_blocks());
+        // The refill changed the values: the first tangent's matrix differs.
+        let original = build(&first);
+        assert_ne!(original.row(10).1, refilled.row(10).1);
+    }
+
+    #[test]
+    fn blocks_outside_the_pattern_are_refused() {
+        let tg = tangent(100, 3);
+        assert!(tg.block(0, 2).is_none());
+        assert!(tg.block(2, 0).is_none());
+        assert!(tg.block(57, 7).is_some());
+        // Above the diagonal: the transpose of the stored lower block.
+        let (low, high) = (tg.block(8, 1).unwrap(), tg.block(1, 8).unwrap());
+        assert_eq!(low[2][0], high[0][2]);
+        let mut matrix = build(&tg);
+        let err = matrix
+            .refill(|r, c| if (r, c) == (8, 1) { None } else { tg.block(r, c) })
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("no block (8, 1)"), "{err}");
     }
 }
