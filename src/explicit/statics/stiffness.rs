@@ -307,7 +307,13 @@ mod tests {
         assert_eq!(low[2][0], high[0][2]);
         let mut matrix = build(&tg);
         let err = matrix
-            .refill(|r, c| if (r, c) == (8, 1) { None } else { tg.block(r, c) })
+            .refill(|r, c| {
+                if (r, c) == (8, 1) {
+                    None
+                } else {
+                    tg.block(r, c)
+                }
+            })
             .unwrap_err()
             .to_string();
         assert!(err.contains("no block (8, 1)"), "{err}");
