@@ -77,7 +77,8 @@ pub struct BlockMatrix {
     diagonal: Vec<usize>,
 }
 
-fn transpose(b: &Block3) -> Block3 {
+/// `bᵀ`: the block of the transposed coupling (column node to row node).
+pub fn transpose(b: &Block3) -> Block3 {
     std::array::from_fn(|k| std::array::from_fn(|i| b[i][k]))
 }
 

@@ -15,6 +15,7 @@
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 
 use super::dofs::ReducedDofs;
+use crate::iterative::block_matrix::transpose;
 use crate::{Error, Result};
 
 /// A 3 x 3 block (row direction, column direction).
@@ -172,11 +173,7 @@ impl Tangent {
         let rows = &self.block_rows[self.block_ptr[low]..self.block_ptr[low + 1]];
         let p = rows.binary_search(&(high as u32)).ok()?;
         let b = self.block_at(low, p);
-        Some(if r >= c {
-            b
-        } else {
-            std::array::from_fn(|k| std::array::from_fn(|i| b[i][k]))
-        })
+        Some(if r >= c { b } else { transpose(&b) })
     }
 
     /// The `p`-th lower block of node column `c` (`p = 0`: the diagonal block, mirrored).
