@@ -83,6 +83,8 @@ fn block_on_springs_carries_load_and_weight() {
     assert!((fr / expected - 1.0).abs() < 0.01, "{relaxation:?}");
     assert!(relaxation.relative_residual < 1e-4);
     assert!(report.iterations <= 3, "{report:?}");
+    // The springs hold the block in every direction: no approach step.
+    assert_eq!(report.approach_steps, 0, "{report:?}");
     // Rigid settlement on the springs: (load + weight) / k_total, plus the block's own
     // compression (under 1 %: E A / h is 120 times k_total).
     let settlement = expected / 2e8;
@@ -231,6 +233,81 @@ fn ties_rigid_bodies_and_point_masses_match_dynamic_relaxation() {
     // The tangent holds the ties, the rigid body and the spring: the nonlinear residual is
     // met in a few steps (measured 3; a tangent without them would not converge this fast).
     assert!(report.iterations <= 4, "{report:?}");
+}
+
+/// A body that nothing holds is moved by its translation alone, without a solve (the approach
+/// step, `explicit::statics::approach`), and that step is the capped Newton step of the full
+/// tangent (the second method: the same iteration with `approach_steps` off). Two bodies: a
+/// free block, and a block on vertical ground springs pushed sideways (free in x and y only).
+/// The loads act through the centre of mass (gravity with a sideways part, a load spread over
+/// the top face), so the regularisation carries a translation and no rotation. The analytic
+/// step is `max_increment_m F / |F|` on every node, `F` the resultant in the free directions
+/// (to 1e-12, rounding). The full solve differs from it by the blocks' deformation scaled by
+/// the cap: about 1e-9 of the step for the free block (the top load's squeeze against a
+/// 623 m free fall) and 1.05e-5 for the block on springs (its 0.26 mm settlement against a
+/// 24.8 m sideways slide), and by the rounding of a solve whose matrix has a condition number
+/// of `(f_max / f_r)^2`, about 1e12 here (measured: 2.2e-6 of the step for the free block);
+/// 1e-4 of the step bounds both. A wrong direction, or a supported direction moved, would be
+/// off by the step itself.
+#[test]
+fn approach_step_is_the_capped_solve_of_a_free_body() {
+    let cap = StaticOptions::default().max_increment_m;
+    let cases: [(&str, Option<[f64; 3]>); 2] = [
+        ("free block", None),
+        ("block on vertical springs", Some([0.0, 0.0, 2e8])),
+    ];
+    for (name, springs) in cases {
+        let gravity = [9.81, 0.0, -9.81];
+        let load = [0.0, 0.0, -50_000.0];
+        let build = || {
+            let mut m = model(cuboid([3, 3, 3], [0.3, 0.3, 0.3], 1));
+            m.gravity_m_per_s2 = gravity;
+            if let Some(k) = springs {
+                m.add_ground_springs("z0", k, [0.0; 3]).unwrap();
+            }
+            m.add_load("z1", load, Curve::constant(1.0)).unwrap();
+            Solver::new(m, None).unwrap()
+        };
+        let one_iteration = |approach_steps: bool| {
+            let mut s = build();
+            let opts = StaticOptions {
+                max_iterations: 1,
+                approach_steps,
+                ..tight()
+            };
+            let e = solve_static(&mut s, &mut NoAux, &opts).unwrap_err();
+            assert!(e.to_string().contains("did not converge"), "{name}: {e}");
+            s
+        };
+        let approached = one_iteration(true);
+        let solved = one_iteration(false);
+        let mass = approached.model.total_mass_kg();
+        let free: [bool; 3] = std::array::from_fn(|i| springs.is_none_or(|k| k[i] == 0.0));
+        let force: [f64; 3] = std::array::from_fn(|i| {
+            if free[i] {
+                load[i] + mass * gravity[i]
+            } else {
+                0.0
+            }
+        });
+        let length = force.iter().map(|f| f * f).sum::<f64>().sqrt();
+        let (mut analytic, mut second) = (0.0f64, 0.0f64);
+        for n in 0..approached.u.len() {
+            for i in 0..3 {
+                let expected = cap * force[i] / length;
+                analytic = analytic.max((approached.u[n][i] - expected).abs());
+                second = second.max((approached.u[n][i] - solved.u[n][i]).abs());
+            }
+        }
+        eprintln!(
+            "{name}: against the analytic step {:.2e}, against the capped solve {:.2e} of the \
+             step",
+            analytic / cap,
+            second / cap
+        );
+        assert!(analytic < 1e-12 * cap, "{name}: {analytic:e}");
+        assert!(second < 1e-4 * cap, "{name}: {second:e}");
+    }
 }
 
 fn cantilever() -> Solver {

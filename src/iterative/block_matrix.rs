@@ -93,13 +93,34 @@ impl BlockMatrix {
         rows: &[u32],
         lower_blocks: &[Block3],
     ) -> Result<BlockMatrix> {
+        if rows.len() != lower_blocks.len() {
+            return Err(Error::input(
+                "block matrix",
+                "pattern",
+                format!("{} rows, {} blocks", rows.len(), lower_blocks.len()),
+            ));
+        }
+        let mut matrix = BlockMatrix::from_lower_pattern(n, col_ptr, rows)?;
+        matrix.refill(|r, c| {
+            let (low, high) = if r >= c { (c, r) } else { (r, c) };
+            let column = &rows[col_ptr[low]..col_ptr[low + 1]];
+            let p = column.binary_search(&(high as u32)).ok()?;
+            let b = &lower_blocks[col_ptr[low] + p];
+            Some(if r >= c { *b } else { transpose(b) })
+        })?;
+        Ok(matrix)
+    }
+
+    /// The symmetric pattern of a lower triangle given by block columns (as
+    /// [`BlockMatrix::from_lower_columns`]), every block zero: fill it with
+    /// [`BlockMatrix::refill`]. Refuses what `from_lower_columns` refuses.
+    pub fn from_lower_pattern(n: usize, col_ptr: &[usize], rows: &[u32]) -> Result<BlockMatrix> {
         let bad = |what: String| Err(Error::input("block matrix", "pattern", what));
-        if col_ptr.len() != n + 1 || rows.len() != lower_blocks.len() || col_ptr[n] != rows.len() {
+        if col_ptr.len() != n + 1 || col_ptr[n] != rows.len() {
             return bad(format!(
-                "{} column starts for {n} columns, {} rows, {} blocks",
+                "{} column starts for {n} columns, {} rows",
                 col_ptr.len(),
                 rows.len(),
-                lower_blocks.len()
             ));
         }
         let mut count = vec![0usize; n + 1];
@@ -132,19 +153,15 @@ impl BlockMatrix {
         let total = row_ptr[n];
         let mut next = count;
         let mut cols = vec![0u32; total];
-        let mut blocks = vec![[[0.0; 3]; 3]; total];
         // Columns in increasing order: each row receives its columns sorted (the upper
         // triangle's entries of row c, from its own column c, come after its lower ones).
         for c in 0..n {
-            for p in col_ptr[c]..col_ptr[c + 1] {
-                let r = rows[p] as usize;
-                let b = &lower_blocks[p];
+            for &r in &rows[col_ptr[c]..col_ptr[c + 1]] {
+                let r = r as usize;
                 cols[next[r]] = c as u32;
-                blocks[next[r]] = *b;
                 next[r] += 1;
                 if r != c {
                     cols[next[c]] = r as u32;
-                    blocks[next[c]] = transpose(b);
                     next[c] += 1;
                 }
             }
@@ -160,7 +177,7 @@ impl BlockMatrix {
         Ok(BlockMatrix {
             row_ptr,
             cols,
-            blocks,
+            blocks: vec![[[0.0; 3]; 3]; total],
             diagonal,
         })
     }

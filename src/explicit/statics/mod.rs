@@ -18,7 +18,9 @@
 //! over its rail) has a finite, capped step instead of a singular matrix.
 //!
 //! Iteration (modified Newton): `dq = K_T⁻¹ R`; a step the regularisation carries (a falling
-//! body) is scaled down so that no node moves more than `max_increment_m`. The factor is
+//! body) is scaled down so that no node moves more than `max_increment_m`. A body that nothing
+//! holds yet is brought down by its translation alone, without a solve ([`approach`]). The
+//! factor is
 //! kept while the rank-one terms (the contact's active set) stay the same: the rest of `K_T`
 //! does not change. Terms left out of `K_T` (geometric stiffness, the contact normal's
 //! rotation, the regularisation) only slow the convergence, which is linear at their relative
@@ -30,6 +32,7 @@
 //! `|R| / (|f_int| + |f_ext|) < tolerance` over the unknowns (`Solver::residual_norms`'s
 //! measure, the one dynamic relaxation stops on).
 
+mod approach;
 mod dofs;
 mod element_assembly;
 mod forcing;
@@ -51,6 +54,7 @@ use crate::iterative::{conjugate_gradients, BlockMatrix, PcgOptions, TwoLevel, T
 use crate::mesh::P3;
 use crate::modal::factor::{numeric_factor, symbolic_pencil, FactorKind};
 use crate::{Error, Result};
+use approach::Bodies;
 use dofs::ReducedDofs;
 use stiffness::{pair_key, Block, Tangent};
 
@@ -75,6 +79,10 @@ pub struct StaticOptions {
     pub memory_limit_bytes: Option<u64>,
     /// How each Newton step's linear system is solved.
     pub linear_solver: LinearSolver,
+    /// Move bodies that nothing holds yet (no contact, no support) by their rigid translation,
+    /// without a linear solve, while that translation exceeds `max_increment_m` ([`approach`]);
+    /// off: every step is a solve of the full tangent, scaled down as needed.
+    pub approach_steps: bool,
     /// Print one line per iteration to standard error.
     pub trace: bool,
     /// Give up with [`Error::Interrupted`] when set.
@@ -91,6 +99,7 @@ impl Default for StaticOptions {
             held_rigid_translations: Vec::new(),
             memory_limit_bytes: None,
             linear_solver: LinearSolver::Direct,
+            approach_steps: true,
             trace: false,
             stop: StopFlag::new(),
         }
@@ -156,6 +165,10 @@ pub struct StaticReport {
     /// Iterative solver: preconditioners set up (the others were kept from a previous step).
     #[serde(default)]
     pub preconditioner_setups: usize,
+    /// Iterations that moved free bodies by their translation alone, without a solve
+    /// ([`StaticOptions::approach_steps`]).
+    #[serde(default)]
+    pub approach_steps: usize,
 }
 
 /// The factorisation in use, or the iterative solver's matrix and preconditioner.
@@ -223,7 +236,12 @@ pub fn solve_static<A: AuxForces + ?Sized>(
         cg_iterations: 0,
         coarse_unknowns: 0,
         preconditioner_setups: 0,
+        approach_steps: 0,
     };
+    let omega_r2 = (2.0 * std::f64::consts::PI * opts.regularisation_hz).powi(2);
+    let bodies = opts
+        .approach_steps
+        .then(|| Bodies::new(solver, &dofs, omega_r2, opts.max_increment_m));
     // The rank-one terms' nodes in the factor in use: a factor is reused only on the same
     // active set (a slave that came into contact since has no stiffness in it, and the step
     // would let its body fly off on the regularisation).
@@ -282,6 +300,24 @@ pub fn solve_static<A: AuxForces + ?Sized>(
         }
         terms.clear();
         aux.stiffness_terms(&mut terms);
+        let approach = bodies
+            .as_ref()
+            .and_then(|b| b.approach_step(solver, &dofs, &terms, &rhs, &mut increment));
+        if let Some(step) = approach {
+            if opts.trace {
+                eprintln!(
+                    "  approach step: free bodies {}, the fastest would move {:.3e} m; moved \
+                     {:.1e} m by their translation, without a solve",
+                    step.bodies_moved, step.free_translation_m, opts.max_increment_m
+                );
+            }
+            dofs.apply_increment(solver, &increment);
+            // Not a Newton step: the next forcing term starts afresh (as after a capped step).
+            previous_relative = None;
+            report.iterations += 1;
+            report.approach_steps += 1;
+            continue;
+        }
         let signature = term_signature(&terms);
         if factor.is_none() || signature != factor_signature {
             let t = Instant::now();
@@ -412,7 +448,6 @@ pub fn solve_static<A: AuxForces + ?Sized>(
         // A step the regularisation carries (a body with nothing under it yet) is as long as
         // `g / omega_r^2`: cap it. It is recognised by its energy: `dqᵀ M omega_r^2 dq` over
         // half of `dqᵀ R = dqᵀ K_T dq`. A step the stiffness carries is a Newton step: kept.
-        let omega_r2 = (2.0 * std::f64::consts::PI * opts.regularisation_hz).powi(2);
         let (mut regularisation_energy, mut step_energy) = (0.0, 0.0);
         for r in 0..n {
             for i in 0..3 {
@@ -638,8 +673,12 @@ fn iterative_factor(
             matrix
         }
         None => {
-            let (col_ptr, rows, blocks) = tg.lower_blocks();
-            BlockMatrix::from_lower_columns(dofs.len(), &col_ptr, &rows, &blocks)?
+            // The pattern first, then the values gathered in parallel (no copy of the lower
+            // blocks, no serial scatter of 72-byte blocks).
+            let (col_ptr, rows) = tg.lower_pattern();
+            let mut matrix = BlockMatrix::from_lower_pattern(dofs.len(), col_ptr, rows)?;
+            matrix.refill(|r, c| tg.block(r, c))?;
+            matrix
         }
     };
     if opts.trace {

@@ -151,9 +151,18 @@ impl Tangent {
         self.values.iter_mut().for_each(|v| *v = 0.0);
     }
 
+    /// The pattern of the node blocks of the lower triangle by node columns (column starts,
+    /// rows; the diagonal block first in each column), for
+    /// [`crate::iterative::BlockMatrix::from_lower_pattern`].
+    pub(super) fn lower_pattern(&self) -> (&[usize], &[u32]) {
+        (&self.block_ptr, &self.block_rows)
+    }
+
     /// The lower triangle by 3 x 3 node blocks: column starts, block rows (the diagonal block
     /// first in each column, stored whole) and blocks (`[row direction][column direction]`),
-    /// for [`crate::iterative::BlockMatrix::from_lower_columns`].
+    /// for [`crate::iterative::BlockMatrix::from_lower_columns`] (the tests' second way to
+    /// the block matrix).
+    #[cfg(test)]
     pub(super) fn lower_blocks(&self) -> (Vec<usize>, Vec<u32>, Vec<Block>) {
         let n = self.block_ptr.len() - 1;
         let mut blocks = Vec::with_capacity(self.block_rows.len());
