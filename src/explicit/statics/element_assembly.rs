@@ -99,7 +99,7 @@ pub(super) fn add_elements(
 mod tests {
     use std::collections::BTreeMap;
 
-    use super::super::{add_node_blocks, base_keys};
+    use super::super::assembly::{add_node_blocks, base_keys};
     use super::*;
     use crate::explicit::element::{ElasticMaterial, Formulation};
     use crate::explicit::model::{Elements, Model};

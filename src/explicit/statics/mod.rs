@@ -33,6 +33,7 @@
 //! measure, the one dynamic relaxation stops on).
 
 mod approach;
+mod assembly;
 mod dofs;
 mod element_assembly;
 mod forcing;
@@ -55,8 +56,11 @@ use crate::mesh::P3;
 use crate::modal::factor::{numeric_factor, symbolic_pencil, FactorKind};
 use crate::{Error, Result};
 use approach::Bodies;
+use assembly::{
+    assemble, base_keys, term_keys, term_signature, update_terms, widened_contact_keys,
+};
 use dofs::ReducedDofs;
-use stiffness::{pair_key, Block, Tangent};
+use stiffness::Tangent;
 
 /// Options of the static solve.
 #[derive(Clone, Debug)]
@@ -217,6 +221,8 @@ pub fn solve_static<A: AuxForces + ?Sized>(
     let mut increment = vec![0.0; 3 * n];
     let mut terms: Vec<RankOneStiffness> = Vec::new();
     let mut tangent: Option<Tangent> = None;
+    // The rank-one terms in the tangent's values (None: nothing assembled yet).
+    let mut assembled_terms: Option<Vec<RankOneStiffness>> = None;
     let mut factor: Option<Factor> = None;
     let mut report = StaticReport {
         iterations: 0,
@@ -356,7 +362,12 @@ pub fn solve_static<A: AuxForces + ?Sized>(
                 unreachable!("the tangent was built above")
             };
             let ta = Instant::now();
-            assemble(solver, &dofs, &terms, opts.regularisation_hz, tg);
+            match assembled_terms.as_deref() {
+                // The same pattern: only the rank-one terms change.
+                Some(old) if !rebuild => update_terms(solver, &dofs, old, &terms, tg),
+                _ => assemble(solver, &dofs, &terms, opts.regularisation_hz, tg),
+            }
+            assembled_terms = Some(terms.clone());
             report.assembly_seconds += ta.elapsed().as_secs_f64();
             factor = Some(match opts.linear_solver {
                 LinearSolver::Direct => {
@@ -754,224 +765,4 @@ fn cap_increment(dq: &mut [f64], limit_m: f64) -> bool {
         return true;
     }
     false
-}
-
-/// Pair keys of a list of mesh nodes (every pair of their reduced nodes).
-fn node_list_keys(solver: &Solver, dofs: &ReducedDofs, nodes: &[usize], out: &mut Vec<u64>) {
-    let mut reduced: Vec<u32> = Vec::with_capacity(4 * nodes.len());
-    let mut buf = [(0u32, 0.0f64); 4];
-    for &nd in nodes {
-        let k = dofs.expand(solver, nd, &mut buf);
-        reduced.extend(buf[..k].iter().map(|e| e.0));
-    }
-    reduced.sort_unstable();
-    reduced.dedup();
-    for (j, &a) in reduced.iter().enumerate() {
-        for &b in &reduced[j..] {
-            out.push(pair_key(a, b));
-        }
-    }
-}
-
-/// Sorted pair keys of the elements and springs.
-fn base_keys(solver: &Solver, dofs: &ReducedDofs) -> Vec<u64> {
-    let model = &solver.model;
-    let mut keys: Vec<u64> = (0..model.elements.len())
-        .into_par_iter()
-        .fold(Vec::new, |mut out, e| {
-            let nodes = model.elements.nodes(e).map(|x| x as usize);
-            node_list_keys(solver, dofs, &nodes, &mut out);
-            out
-        })
-        .reduce(Vec::new, |mut a, b| {
-            a.extend_from_slice(&b);
-            a
-        });
-    for s in &model.springs {
-        let nodes: Vec<usize> = std::iter::once(s.node_a).chain(s.node_b).collect();
-        node_list_keys(solver, dofs, &nodes, &mut keys);
-    }
-    keys.par_sort_unstable();
-    keys.dedup();
-    keys
-}
-
-/// The nodes of each rank-one term, in order: what identifies an active set.
-fn term_signature(terms: &[RankOneStiffness]) -> Vec<[usize; 5]> {
-    terms.iter().map(|t| t.nodes).collect()
-}
-
-/// Pair keys between every reduced node within one element of a term's slave and every one
-/// within one element of its face (the node graph of the element and spring pattern `keys`).
-fn widened_contact_keys(
-    keys: &[u64],
-    n: usize,
-    solver: &Solver,
-    dofs: &ReducedDofs,
-    terms: &[RankOneStiffness],
-) -> Vec<u64> {
-    let mut is_slave = vec![false; n];
-    let mut is_face = vec![false; n];
-    let mut buf = [(0u32, 0.0f64); 4];
-    for t in terms {
-        for j in 0..5 {
-            if t.coefficients[j] == 0.0 {
-                continue;
-            }
-            let k = dofs.expand(solver, t.nodes[j], &mut buf);
-            for &(r, _) in &buf[..k] {
-                if j == 0 {
-                    is_slave[r as usize] = true;
-                } else {
-                    is_face[r as usize] = true;
-                }
-            }
-        }
-    }
-    // One ring: a node joins a side when a pattern pair links it to a node of that side.
-    let (mut slaves, mut faces) = (is_slave.clone(), is_face.clone());
-    for &key in keys {
-        let (c, r) = ((key >> 32) as usize, (key & 0xffff_ffff) as usize);
-        for (a, b) in [(c, r), (r, c)] {
-            slaves[a] |= is_slave[b];
-            faces[a] |= is_face[b];
-        }
-    }
-    let slave_nodes: Vec<u32> = (0..n as u32).filter(|&r| slaves[r as usize]).collect();
-    let face_nodes: Vec<u32> = (0..n as u32).filter(|&r| faces[r as usize]).collect();
-    let mut out = Vec::with_capacity(slave_nodes.len() * face_nodes.len());
-    for &a in &slave_nodes {
-        for &b in &face_nodes {
-            out.push(pair_key(a, b));
-        }
-    }
-    out
-}
-
-/// Pair keys of the rank-one terms.
-fn term_keys(solver: &Solver, dofs: &ReducedDofs, terms: &[RankOneStiffness]) -> Vec<u64> {
-    let mut keys = Vec::new();
-    for t in terms {
-        let nodes: Vec<usize> = (0..5)
-            .filter(|&j| t.coefficients[j] != 0.0)
-            .map(|j| t.nodes[j])
-            .collect();
-        node_list_keys(solver, dofs, &nodes, &mut keys);
-    }
-    keys.sort_unstable();
-    keys.dedup();
-    keys
-}
-
-/// Adds the node blocks `blocks[a][b]` (row node `nodes[a]`, column node `nodes[b]`, all
-/// ordered pairs) through the constraint map: each lands in the lower block of its reduced
-/// pair once (a pair `r < c` is added by its mirror `(c, r)`).
-fn add_node_blocks(
-    solver: &Solver,
-    dofs: &ReducedDofs,
-    nodes: &[usize],
-    block: impl Fn(usize, usize) -> Block,
-    tangent: &mut Tangent,
-) {
-    let mut expanded = vec![([(0u32, 0.0f64); 4], 0usize); nodes.len()];
-    for (a, &nd) in nodes.iter().enumerate() {
-        let mut buf = [(0u32, 0.0f64); 4];
-        let k = dofs.expand(solver, nd, &mut buf);
-        expanded[a] = (buf, k);
-    }
-    for a in 0..nodes.len() {
-        for b in 0..nodes.len() {
-            let kab = block(a, b);
-            let (ea, ka) = &expanded[a];
-            let (eb, kb) = &expanded[b];
-            for &(ra, wa) in &ea[..*ka] {
-                for &(rb, wb) in &eb[..*kb] {
-                    if ra < rb {
-                        continue;
-                    }
-                    let w = wa * wb;
-                    let scaled: Block = kab.map(|row| row.map(|x| w * x));
-                    tangent.add(dofs, ra, rb, &scaled);
-                }
-            }
-        }
-    }
-}
-
-/// The tangent's values: elements, springs, rank-one terms, regularisation, held diagonals.
-fn assemble(
-    solver: &Solver,
-    dofs: &ReducedDofs,
-    terms: &[RankOneStiffness],
-    regularisation_hz: f64,
-    tangent: &mut Tangent,
-) {
-    tangent.clear();
-    let model = &solver.model;
-    if let Elements::OnePoint(els) = &model.elements {
-        element_assembly::add_elements(
-            solver,
-            dofs,
-            els,
-            model.physical_hourglass,
-            element_assembly::COLUMN_RANGES,
-            tangent,
-        );
-    }
-    for s in &model.springs {
-        let nodes: Vec<usize> = std::iter::once(s.node_a).chain(s.node_b).collect();
-        let k = s.stiffness_n_per_m;
-        add_node_blocks(
-            solver,
-            dofs,
-            &nodes,
-            |a, b| {
-                let sign = if a == b { 1.0 } else { -1.0 };
-                std::array::from_fn(|i| {
-                    std::array::from_fn(|m| if i == m { sign * k[i] } else { 0.0 })
-                })
-            },
-            tangent,
-        );
-    }
-    for t in terms {
-        let used: Vec<usize> = (0..5).filter(|&j| t.coefficients[j] != 0.0).collect();
-        let nodes: Vec<usize> = used.iter().map(|&j| t.nodes[j]).collect();
-        let n = t.direction;
-        add_node_blocks(
-            solver,
-            dofs,
-            &nodes,
-            |a, b| {
-                let s = t.stiffness_n_per_m * t.coefficients[used[a]] * t.coefficients[used[b]];
-                std::array::from_fn(|i| std::array::from_fn(|m| s * n[i] * n[m]))
-            },
-            tangent,
-        );
-    }
-    let omega_r = 2.0 * std::f64::consts::PI * regularisation_hz;
-    let mut diagonal_sum = 0.0;
-    let mut count = 0usize;
-    for r in 0..dofs.len() {
-        for i in 0..3 {
-            if !dofs.held[r][i] {
-                tangent.add_diagonal(r, i, dofs.mass_kg[r] * omega_r * omega_r);
-                diagonal_sum += tangent.diagonal(r, i);
-                count += 1;
-            }
-        }
-    }
-    // Held directions: a unit pivot at the matrix's scale (their right-hand side is zero).
-    let scale = if count > 0 {
-        diagonal_sum / count as f64
-    } else {
-        1.0
-    };
-    for r in 0..dofs.len() {
-        for i in 0..3 {
-            if dofs.held[r][i] {
-                tangent.add_diagonal(r, i, scale);
-            }
-        }
-    }
 }

@@ -141,6 +141,11 @@ impl Tangent {
         self.values[self.col_ptr[3 * r + i]] += value;
     }
 
+    /// Sets the diagonal of reduced node `r`, direction `i`, to `value`.
+    pub(super) fn set_diagonal(&mut self, r: usize, i: usize, value: f64) {
+        self.values[self.col_ptr[3 * r + i]] = value;
+    }
+
     /// The value on the diagonal of reduced node `r`, direction `i`.
     pub(super) fn diagonal(&self, r: usize, i: usize) -> f64 {
         self.values[self.col_ptr[3 * r + i]]
