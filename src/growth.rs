@@ -48,8 +48,10 @@ pub struct WindowGrowth {
     pub from_s: f64,
     /// Window end (s).
     pub to_s: f64,
-    /// Mean ridge amplitude over the window (signal unit).
-    pub mean_amplitude: f64,
+    /// Mean ridge amplitude over the window (signal unit); None when no sample of the window
+    /// lies outside the band's cone of influence (a window shorter than the wavelet's reach from
+    /// the record's ends, e.g. 4 ms at the (0,0) mode's 230 Hz).
+    pub mean_amplitude: Option<f64>,
     /// Least-squares growth rate of the ridge amplitude (1/s); None when fewer than 8 samples
     /// of the window lie inside the cone of influence.
     pub growth_rate_per_s: Option<f64>,
@@ -215,11 +217,8 @@ pub fn band_growth(
                 .filter(|(t, a)| **t >= w0 && **t < w1 && a.is_finite())
                 .map(|(_, a)| *a)
                 .collect();
-            let mean_amplitude = if all.is_empty() {
-                f64::NAN
-            } else {
-                all.iter().sum::<f64>() / all.len() as f64
-            };
+            let mean_amplitude =
+                (!all.is_empty()).then(|| all.iter().sum::<f64>() / all.len() as f64);
             windows.push(WindowGrowth {
                 from_s: w0,
                 to_s: w1,
@@ -260,17 +259,18 @@ fn slope(pts: &[(f64, f64)]) -> f64 {
 pub fn to_markdown(g: &GrowthAnalysis) -> String {
     let mut md = format!(
         "Wavelet-ridge amplitude and growth rate (slope of ln A, 1/s; > 0 grows) of `{}` per \
-         band and window:\n\n| band | window (ms) | mean ridge amplitude | growth rate (1/s) |\n|---|---|---|---|\n",
+         band and window (-: too few samples of the window outside the cone of influence):\n\n| band | window (ms) | mean ridge amplitude | growth rate (1/s) |\n|---|---|---|---|\n",
         g.column
     );
     for b in &g.bands {
         for w in &b.windows {
             md.push_str(&format!(
-                "| {} | {:.1}-{:.1} | {:.3e} | {} |\n",
+                "| {} | {:.1}-{:.1} | {} | {} |\n",
                 b.band.name,
                 w.from_s * 1e3,
                 w.to_s * 1e3,
-                w.mean_amplitude,
+                w.mean_amplitude
+                    .map_or("-".to_string(), |a| format!("{a:.3e}")),
                 w.growth_rate_per_s
                     .map_or("-".to_string(), |s| format!("{s:+.0}"))
             ));
@@ -375,5 +375,45 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A 230 Hz tone (the (0,0) mode's band) over 24 ms in 4 ms windows: the Morlet wavelet at
+    /// 230 Hz reaches sqrt(2) w0 / (2 pi f) = 5.9 ms from either end of the record (the cone of
+    /// influence), so the first and last windows have no reliable sample and no mean amplitude;
+    /// the inner ones read the tone's amplitude 2.0 within 3 % (as the test above). The table
+    /// shows "-" for the missing values, never NaN.
+    #[test]
+    fn windows_inside_the_cone_of_influence_have_no_amplitude() {
+        let fs = 50_000.0;
+        let values: Vec<f64> = (0..1200)
+            .map(|k| 2.0 * (std::f64::consts::TAU * 230.0 * k as f64 / fs).sin())
+            .collect();
+        let series = TimeSeries {
+            column: "x".into(),
+            start_time_s: 0.0,
+            sample_rate_hz: fs,
+            values,
+        };
+        let band = Band {
+            name: "(0,0)".into(),
+            low_hz: 218.5,
+            high_hz: 241.5,
+        };
+        let g = band_growth(&series, &[band], 0.0, 0.004).unwrap();
+        let windows = &g.bands[0].windows;
+        assert_eq!(windows.len(), 6, "{windows:?}");
+        for w in [&windows[0], &windows[5]] {
+            assert!(w.mean_amplitude.is_none(), "{w:?}");
+            assert!(w.growth_rate_per_s.is_none(), "{w:?}");
+        }
+        for w in &windows[2..4] {
+            let a = w
+                .mean_amplitude
+                .expect("an inner window has reliable samples");
+            assert!((a - 2.0).abs() < 0.06, "{w:?}");
+        }
+        let table = to_markdown(&g);
+        assert!(!table.contains("NaN"), "{table}");
+        assert!(table.contains("| (0,0) | 0.0-4.0 | - | - |"), "{table}");
     }
 }

@@ -79,6 +79,14 @@ fn sigterm_stops_with_a_checkpoint_and_resume_goes_on() {
     let stopped_at_s = record["time_s"].as_f64().unwrap();
     assert!(stopped_at_s > 0.0 && stopped_at_s < 0.05, "{stopped_at_s}");
     assert!(out.join("checkpoint.bin").exists());
+    let read_json = |name: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(out.join(name)).unwrap()).unwrap()
+    };
+    let first = read_json("run.json");
+    assert!(
+        !first["static_preload"].is_null() || !first["preload"].is_null(),
+        "the first segment ran a preload: {first}"
+    );
 
     // Resume for 0.2 ms more: completes, and the histories go on without a gap or a repeat.
     let end_ms = stopped_at_s * 1e3 + 0.2;
@@ -117,6 +125,35 @@ fn sigterm_stops_with_a_checkpoint_and_resume_goes_on() {
             t.last().unwrap()
         );
     }
+    // The resume's run.json keeps the whole run's record (src/rolling/record.rs): the preload
+    // and the loaded wheel from the first segment, which the resume neither runs nor measures,
+    // extremes over both segments, and both segments listed.
+    let merged = read_json("run.json");
+    assert_eq!(merged["preload"], first["preload"]);
+    assert_eq!(merged["static_preload"], first["static_preload"]);
+    for field in ["wheel_centre_m", "rolling_radius_m", "preload_load_error"] {
+        assert_eq!(
+            merged["model"][field], first["model"][field],
+            "model.{field}"
+        );
+    }
+    assert!(
+        merged["deepest_penetration_m"].as_f64().unwrap()
+            >= first["deepest_penetration_m"].as_f64().unwrap()
+    );
+    let segments = merged["segments"].as_array().expect("segments");
+    assert_eq!(segments.len(), 2, "{merged}");
+    assert_eq!(segments[0]["status"], "interrupted");
+    assert_eq!(segments[0]["to_s"], first["run"]["time_s"]);
+    assert_eq!(segments[1]["from_s"], first["run"]["time_s"]);
+    assert_eq!(segments[1]["status"], "completed");
+    let total = merged["total_wall_s"].as_f64().unwrap();
+    let parts =
+        first["run"]["wall_s"].as_f64().unwrap() + merged["run"]["wall_s"].as_f64().unwrap();
+    assert!(
+        (total - parts).abs() <= 1e-9 * parts,
+        "{total} against {parts}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -28,6 +28,7 @@ mod drive;
 pub mod instruments;
 pub mod output;
 mod preload;
+pub mod record;
 pub mod stepping;
 
 use std::path::{Path, PathBuf};
@@ -127,13 +128,14 @@ pub struct RunRecord {
     /// Longest time without any contact node (s); above [`LIFT_OFF_LIMIT_S`] the run is
     /// reported as lift-off or derailment.
     pub longest_contact_loss_s: f64,
-    /// Largest `|f_T| / (mu f_N)` over every contact node and every rolling step (since the
-    /// start of rolling, or the resume): at most 1 up to rounding.
+    /// Largest `|f_T| / (mu f_N)` over every contact node and every rolling step (of this
+    /// segment; `run.json` merges the segments of a resumed run, [`record`]): at most 1 up to
+    /// rounding.
     pub largest_node_shear_over_bound: f64,
     /// Deepest penetration over every contact node and every rolling step (m), same span.
     pub deepest_penetration_m: f64,
     /// Where the contact sat on both profiles, its angle, and the flange clearance, at the
-    /// start of rolling (or the resume) and over the run.
+    /// start of rolling (or the resume) and over the run (`run.json` merges the segments).
     pub contact_point: Option<ContactPointRecord>,
 }
 
@@ -207,6 +209,11 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         ));
     }
     prepare_run_directory(opts)?;
+    // Read before anything of the resume is written.
+    let earlier = opts
+        .resume
+        .then(|| earlier_record(&opts.out_dir.join("run.json")))
+        .flatten();
     let mut m = build(&loaded_case)?;
     m.contact.out_dir = opts.out_dir.clone();
     if opts.verify_contact_region {
@@ -317,11 +324,41 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         deepest_penetration_m: m.contact.pair.deepest_penetration_m,
         contact_point: m.contact.contact_point,
     };
-    let path = opts.out_dir.join("run.json");
-    let text =
-        serde_json::to_string_pretty(&record).map_err(|e| Error::Numerical(e.to_string()))?;
-    std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
+    write_record(&record, &opts.out_dir.join("run.json"), earlier.as_ref())?;
     Ok(record)
+}
+
+/// The `run.json` an earlier segment of a resumed run wrote; None (with a warning) when it is
+/// missing or unreadable, e.g. after a kill that left only a periodic checkpoint: the resumed
+/// record then describes its own segment only.
+fn earlier_record(path: &Path) -> Option<serde_json::Value> {
+    let text = std::fs::read_to_string(path).ok();
+    let value = text.and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
+    if value.is_none() {
+        eprintln!(
+            "warning: {} is missing or unreadable: the record of this resume covers its own \
+             segment only (no preload, extremes since the resume)",
+            path.display()
+        );
+    }
+    value
+}
+
+/// Writes `run.json`: the record with its segments, merged with the earlier segments' record
+/// when the run resumed ([`record`]).
+fn write_record(
+    record: &RunRecord,
+    path: &Path,
+    earlier: Option<&serde_json::Value>,
+) -> Result<()> {
+    let value = serde_json::to_value(record).map_err(|e| Error::Numerical(e.to_string()))?;
+    let merged = match earlier {
+        Some(before) => record::merge_resumed(before, value),
+        None => record::with_segments(value),
+    };
+    let text =
+        serde_json::to_string_pretty(&merged).map_err(|e| Error::Numerical(e.to_string()))?;
+    std::fs::write(path, text).map_err(|e| Error::io(path, e))
 }
 
 /// Wheel centre (mean of the hub bore nodes) displacement and velocity, x / y / z.
