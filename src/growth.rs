@@ -316,6 +316,16 @@ pub fn read_column(run_dir: &Path, column: &str) -> Result<TimeSeries> {
 mod tests {
     use super::*;
 
+    /// A record `x` sampled at `fs` from t = 0.
+    fn sampled_at(fs: f64, values: Vec<f64>) -> TimeSeries {
+        TimeSeries {
+            column: "x".into(),
+            start_time_s: 0.0,
+            sample_rate_hz: fs,
+            values,
+        }
+    }
+
     /// A tone at 700 Hz growing as exp(100 t) and one at 1800 Hz decaying as exp(-50 t): the
     /// ridge slopes return both rates within 5 %. Why 5 %: the ridge of a slowly varying
     /// envelope is exact to `(sigma w0 / 2 pi f)^2` (1e-5 here), but each band also holds the
@@ -332,12 +342,7 @@ mod tests {
                     + 50.0 * (-50.0 * t).exp() * (std::f64::consts::TAU * 1800.0 * t).cos()
             })
             .collect();
-        let series = TimeSeries {
-            column: "x".into(),
-            start_time_s: 0.0,
-            sample_rate_hz: fs,
-            values,
-        };
+        let series = sampled_at(fs, values);
         let bands = vec![
             Band {
                 name: "a".into(),
@@ -388,12 +393,7 @@ mod tests {
         let values: Vec<f64> = (0..1200)
             .map(|k| 2.0 * (std::f64::consts::TAU * 230.0 * k as f64 / fs).sin())
             .collect();
-        let series = TimeSeries {
-            column: "x".into(),
-            start_time_s: 0.0,
-            sample_rate_hz: fs,
-            values,
-        };
+        let series = sampled_at(fs, values);
         let band = Band {
             name: "(0,0)".into(),
             low_hz: 218.5,
