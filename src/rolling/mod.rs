@@ -332,16 +332,16 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
 /// missing or unreadable, e.g. after a kill that left only a periodic checkpoint: the resumed
 /// record then describes its own segment only.
 fn earlier_record(path: &Path) -> Option<serde_json::Value> {
-    let text = std::fs::read_to_string(path).ok();
-    let value = text.and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
-    if value.is_none() {
-        eprintln!(
-            "warning: {} is missing or unreadable: the record of this resume covers its own \
-             segment only (no preload, extremes since the resume)",
-            path.display()
-        );
+    match crate::input::read_json(path) {
+        Ok(value) => Some(value),
+        Err(e) => {
+            eprintln!(
+                "warning: {e}: the record of this resume covers its own segment only (no \
+                 preload, extremes since the resume)"
+            );
+            None
+        }
     }
-    value
 }
 
 /// Writes `run.json`: the record with its segments, merged with the earlier segments' record

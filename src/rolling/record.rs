@@ -111,8 +111,7 @@ fn extreme(a: &Value, b: &Value, pick: fn(f64, f64) -> f64) -> Value {
     match (a.as_f64(), b.as_f64()) {
         (Some(x), Some(y)) => json!(pick(x, y)),
         (Some(x), None) => json!(x),
-        (None, Some(_)) => b.clone(),
-        (None, None) => b.clone(),
+        (None, _) => b.clone(),
     }
 }
 
