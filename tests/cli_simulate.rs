@@ -39,6 +39,129 @@ fn column(csv: &str, name: &str) -> Vec<f64> {
         .collect()
 }
 
+/// Samples every 20 us (50 kHz): consecutive times differ by one interval everywhere, across
+/// the stop, to the rounding of the printed times (1e-9 relative), up to `end_ms`.
+fn assert_samples_without_gap_or_repeat(out: &Path, end_ms: f64) {
+    for file in ["contact_forces.csv", "histories.csv"] {
+        let t = column(&std::fs::read_to_string(out.join(file)).unwrap(), "time_s");
+        assert!(t.len() > 10, "{file}: {} rows", t.len());
+        for w in t.windows(2) {
+            assert!(
+                ((w[1] - w[0]) - 2e-5).abs() < 1e-9,
+                "{file}: samples at {} and {} s",
+                w[0],
+                w[1]
+            );
+        }
+        assert!(
+            *t.last().unwrap() > end_ms * 1e-3 - 4e-5,
+            "{file} ends at {}",
+            t.last().unwrap()
+        );
+    }
+}
+
+fn read_json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// A run killed outright (SIGKILL: no handler, nothing flushed) after a periodic checkpoint
+/// leaves `status.json` and `run.json` of that checkpoint, with status `running`; the resume
+/// goes on from the checkpoint without a repeated or missing sample, and its `run.json` lists
+/// the killed segment up to its checkpoint, with its wall time and the preload.
+#[cfg(unix)]
+#[test]
+fn a_run_killed_after_a_checkpoint_resumes_with_its_record() {
+    let dir = temp_dir("sigkill");
+    let mut case: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(long_tiny_case(&dir, 0.05)).unwrap())
+            .unwrap();
+    // A checkpoint every 200 steps: the first comes within a second or two of rolling.
+    case["output"]["checkpoint_every_steps"] = serde_json::json!(200);
+    let case_path = dir.join("case-ckpt.json");
+    std::fs::write(&case_path, serde_json::to_string_pretty(&case).unwrap()).unwrap();
+    let out = dir.join("run");
+    let mut child = squeal()
+        .args(["simulate", "--quiet", "--scenario"])
+        .arg(&case_path)
+        .arg("--out")
+        .arg(&out)
+        .spawn()
+        .expect("spawn squeal");
+    let started = Instant::now();
+    // Wait for a checkpoint's record, then for the run to go on past it.
+    let checkpoint_time = |out: &Path| -> Option<f64> {
+        let text = std::fs::read_to_string(out.join("status.json")).ok()?;
+        let status: serde_json::Value = serde_json::from_str(&text).ok()?;
+        (status["status"] == "running").then(|| status["time_s"].as_f64())?
+    };
+    let mut seen = None;
+    loop {
+        assert!(
+            started.elapsed() < Duration::from_secs(600),
+            "no checkpoint was recorded"
+        );
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!("squeal exited before the kill: {status}");
+        }
+        match (seen, checkpoint_time(&out)) {
+            (None, Some(t)) => seen = Some(t),
+            (Some(t0), Some(t)) if t > t0 => break,
+            _ => {}
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let kill = Command::new("kill")
+        .args(["-KILL", &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(kill.success());
+    let _ = child.wait();
+    let status = read_json(&out.join("status.json"));
+    assert_eq!(status["status"], "running", "{status}");
+    let checkpoint_s = status["time_s"].as_f64().unwrap();
+    let at_checkpoint = read_json(&out.join("run.json"));
+    assert_eq!(at_checkpoint["run"]["status"], "running");
+    assert_eq!(at_checkpoint["run"]["time_s"], status["time_s"]);
+    assert!(!at_checkpoint["static_preload"].is_null() || !at_checkpoint["preload"].is_null());
+
+    let end_ms = checkpoint_s * 1e3 + 0.2;
+    let resumed = squeal()
+        .args(["simulate", "--quiet", "--resume", "--scenario"])
+        .arg(&case_path)
+        .arg("--out")
+        .arg(&out)
+        .args(["--end-time-ms", &format!("{end_ms}")])
+        .output()
+        .expect("resume");
+    assert!(
+        resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    assert_samples_without_gap_or_repeat(&out, end_ms);
+    let merged = read_json(&out.join("run.json"));
+    assert_eq!(merged["run"]["status"], "completed");
+    assert_eq!(merged["static_preload"], at_checkpoint["static_preload"]);
+    assert_eq!(merged["preload"], at_checkpoint["preload"]);
+    let segments = merged["segments"].as_array().expect("segments");
+    assert_eq!(segments.len(), 2, "{merged}");
+    assert_eq!(segments[0]["status"], "killed");
+    assert_eq!(segments[0]["from_s"], 0.0);
+    assert_eq!(segments[0]["to_s"], status["time_s"]);
+    assert_eq!(segments[1]["from_s"], status["time_s"]);
+    let killed_wall_s = segments[0]["wall_s"].as_f64().unwrap();
+    assert!(killed_wall_s > 0.0);
+    assert_eq!(killed_wall_s, status["wall_s"].as_f64().unwrap());
+    let total = merged["total_wall_s"].as_f64().unwrap();
+    let parts = killed_wall_s + merged["run"]["wall_s"].as_f64().unwrap();
+    assert!(
+        (total - parts).abs() <= 1e-9 * parts,
+        "{total} against {parts}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[cfg(unix)]
 #[test]
 fn sigterm_stops_with_a_checkpoint_and_resume_goes_on() {
@@ -106,25 +229,7 @@ fn sigterm_stops_with_a_checkpoint_and_resume_goes_on() {
     let record: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("status.json")).unwrap()).unwrap();
     assert_eq!(record["status"], "completed", "{record}");
-    // Samples every 20 us (50 kHz): consecutive times differ by one interval everywhere,
-    // across the stop, to the rounding of the printed times (1e-9 relative).
-    for file in ["contact_forces.csv", "histories.csv"] {
-        let t = column(&std::fs::read_to_string(out.join(file)).unwrap(), "time_s");
-        assert!(t.len() > 10, "{file}: {} rows", t.len());
-        for w in t.windows(2) {
-            assert!(
-                ((w[1] - w[0]) - 2e-5).abs() < 1e-9,
-                "{file}: samples at {} and {} s",
-                w[0],
-                w[1]
-            );
-        }
-        assert!(
-            *t.last().unwrap() > end_ms * 1e-3 - 4e-5,
-            "{file} ends at {}",
-            t.last().unwrap()
-        );
-    }
+    assert_samples_without_gap_or_repeat(&out, end_ms);
     // The resume's run.json keeps the whole run's record (src/rolling/record.rs): the preload
     // and the loaded wheel from the first segment, which the resume neither runs nor measures,
     // extremes over both segments, and both segments listed.

@@ -1,7 +1,7 @@
 //! What other modules add to the engine each step (contact) and at each output sample
 //! (histories, checkpoints): the [`AuxForces`] hooks.
 
-use super::state::OutputFields;
+use super::state::{OutputFields, RunSummary};
 use crate::mesh::P3;
 use crate::{Error, Result};
 
@@ -44,6 +44,13 @@ pub trait AuxForces {
     /// of `node_count` nodes (e.g. the contact force on each node). Called at snapshots only.
     fn snapshot_fields(&self, _node_count: usize) -> Vec<(String, Vec<P3>)> {
         Vec::new()
+    }
+    /// Called after each periodic checkpoint with the run's record so far (status `running`,
+    /// time and steps of the checkpoint, wall time of this invocation up to it), so that the
+    /// module can keep its own record in step with the checkpoint: a process killed later
+    /// then leaves a record a resume can merge. Nothing by default.
+    fn on_checkpoint(&mut self, _summary: &RunSummary) -> Result<()> {
+        Ok(())
     }
     /// State to keep in checkpoints (e.g. tangential contact forces).
     fn checkpoint_state(&self) -> Vec<f64> {

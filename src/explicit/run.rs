@@ -23,7 +23,8 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::solver::{AuxForces, EnergyReport, RigidState, Solver, WorkTotals};
+use super::solver::{AuxForces, RigidState, Solver, WorkTotals};
+pub use super::state::RunSummary;
 use crate::mesh::vtu::{self, PointVectorField};
 use crate::mesh::P3;
 use crate::{Error, Result};
@@ -124,34 +125,6 @@ impl RunOptions {
             stop: StopFlag::new(),
         }
     }
-}
-
-/// What a run returns.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct RunSummary {
-    /// "completed", "unstable" or "interrupted" (stopped on request; a checkpoint of the step
-    /// reached was written, `--resume` goes on).
-    pub status: String,
-    /// Diagnosis when unstable, or where an interrupted run stopped.
-    pub diagnosis: Option<String>,
-    /// Steps taken (in total, across resumes).
-    pub steps: u64,
-    /// Simulated time reached (s).
-    pub time_s: f64,
-    /// Time step (s).
-    pub time_step_s: f64,
-    /// What limits the stable step.
-    pub time_step_limited_by: String,
-    /// Wall-clock time of this invocation (s).
-    pub wall_s: f64,
-    /// Steps per second of this invocation.
-    pub steps_per_second: f64,
-    /// Largest energy balance ratio seen.
-    pub max_balance_ratio: f64,
-    /// Last energy report.
-    pub last_energy: Option<EnergyReport>,
-    /// Whether the run resumed from a checkpoint, and from which time.
-    pub resumed_from_s: Option<f64>,
 }
 
 fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
@@ -271,7 +244,13 @@ pub fn run<A: AuxForces + ?Sized>(
     } else {
         indicatif::ProgressBar::hidden()
     };
-    let wall = Instant::now();
+    let segment = Segment {
+        limited_by,
+        wall: Instant::now(),
+        start_step,
+        resumed_from,
+    };
+    let status_path = opts.out_dir.join("status.json");
     let mut snapshots: Vec<f64> = opts
         .snapshot_times_s
         .iter()
@@ -354,7 +333,7 @@ pub fn run<A: AuxForces + ?Sized>(
             bar.set_message(format!(
                 "t = {:.3} ms, {:.0} steps/s",
                 solver.time_s * 1e3,
-                (solver.step - start_step) as f64 / wall.elapsed().as_secs_f64().max(1e-9)
+                (solver.step - start_step) as f64 / segment.wall.elapsed().as_secs_f64().max(1e-9)
             ));
         }
         while next_snapshot < snapshots.len()
@@ -368,6 +347,20 @@ pub fn run<A: AuxForces + ?Sized>(
             hist.flush().map_err(io(&hist_path))?;
             energy_csv.flush().map_err(io(&energy_path))?;
             write_checkpoint(solver, &aux.checkpoint_state(), &ckpt_path)?;
+            // The record of the run so far, in step with the checkpoint: if the process is
+            // killed before its end, `status.json` says where a resume goes on from, and the
+            // auxiliary module's record (a rolling run's `run.json`) keeps this segment's wall
+            // time and extremes for the resume to merge.
+            let diagnosis = format!(
+                "running; checkpoint at t = {:.6} ms (step {}) in {}: if no process is running \
+                 it, it ended after this checkpoint and a resume goes on from it",
+                solver.time_s * 1e3,
+                solver.step,
+                ckpt_path.display()
+            );
+            let summary = segment.summary(solver, "running", Some(diagnosis), max_ratio);
+            write_status(&status_path, &summary)?;
+            aux.on_checkpoint(&summary)?;
         }
         if k % 64 == 0 {
             bar.set_position(k);
@@ -380,45 +373,74 @@ pub fn run<A: AuxForces + ?Sized>(
     if failure.is_none() && (opts.checkpoint_every_steps > 0 || interrupted) {
         write_checkpoint(solver, &aux.checkpoint_state(), &ckpt_path)?;
     }
-    let wall_s = wall.elapsed().as_secs_f64();
-    let summary = RunSummary {
-        status: if failure.is_some() {
-            "unstable"
-        } else if interrupted {
-            "interrupted"
-        } else {
-            "completed"
-        }
-        .to_string(),
-        diagnosis: match &failure {
-            Some(e) => Some(e.to_string()),
-            None if interrupted => Some(format!(
-                "stopped on request at t = {:.6} ms (step {}); checkpoint written to {}, \
-                 a resume goes on from it",
-                solver.time_s * 1e3,
-                solver.step,
-                ckpt_path.display()
-            )),
-            None => None,
-        },
-        steps: solver.step,
-        time_s: solver.time_s,
-        time_step_s: solver.dt_s,
-        time_step_limited_by: limited_by,
-        wall_s,
-        steps_per_second: (solver.step - start_step) as f64 / wall_s.max(1e-9),
-        max_balance_ratio: max_ratio,
-        last_energy: solver.last_energy(),
-        resumed_from_s: resumed_from,
+    let status = if failure.is_some() {
+        "unstable"
+    } else if interrupted {
+        "interrupted"
+    } else {
+        "completed"
     };
-    let status_path = opts.out_dir.join("status.json");
-    let text =
-        serde_json::to_string_pretty(&summary).map_err(|e| Error::Numerical(e.to_string()))?;
-    std::fs::write(&status_path, text).map_err(io(&status_path))?;
+    let diagnosis = match &failure {
+        Some(e) => Some(e.to_string()),
+        None if interrupted => Some(format!(
+            "stopped on request at t = {:.6} ms (step {}); checkpoint written to {}, \
+             a resume goes on from it",
+            solver.time_s * 1e3,
+            solver.step,
+            ckpt_path.display()
+        )),
+        None => None,
+    };
+    let summary = segment.summary(solver, status, diagnosis, max_ratio);
+    write_status(&status_path, &summary)?;
     match failure {
         Some(e) => Err(e),
         None => Ok(summary),
     }
+}
+
+/// This invocation of a run: what its summary needs besides the solver's state.
+struct Segment {
+    limited_by: String,
+    wall: Instant,
+    start_step: u64,
+    resumed_from: Option<f64>,
+}
+
+impl Segment {
+    /// The run's summary now, with `status` and `diagnosis`.
+    fn summary(
+        &self,
+        solver: &Solver,
+        status: &str,
+        diagnosis: Option<String>,
+        max_balance_ratio: f64,
+    ) -> RunSummary {
+        let wall_s = self.wall.elapsed().as_secs_f64();
+        RunSummary {
+            status: status.to_string(),
+            diagnosis,
+            steps: solver.step,
+            time_s: solver.time_s,
+            time_step_s: solver.dt_s,
+            time_step_limited_by: self.limited_by.clone(),
+            wall_s,
+            steps_per_second: (solver.step - self.start_step) as f64 / wall_s.max(1e-9),
+            max_balance_ratio,
+            last_energy: solver.last_energy(),
+            resumed_from_s: self.resumed_from,
+        }
+    }
+}
+
+/// Writes `status.json` through a temporary file, so that a kill mid-write leaves the last
+/// whole one.
+fn write_status(path: &Path, summary: &RunSummary) -> Result<()> {
+    let text =
+        serde_json::to_string_pretty(summary).map_err(|e| Error::Numerical(e.to_string()))?;
+    crate::output::write_file_staged(path, |staging| {
+        std::fs::write(staging, &text).map_err(io(staging))
+    })
 }
 
 pub(crate) fn push_num(s: &mut String, x: f64) {
@@ -552,6 +574,11 @@ pub(crate) fn reconcile_csv_header(path: &Path, header: &str) -> Result<ColumnPl
     Ok(ColumnPlacement::new(positions, columns.len()))
 }
 
+/// Keeps the header and the rows of the CSV at `path` before `time_s` (first column): the rows
+/// a resume from `time_s` writes again are dropped. The times are printed with 10 significant
+/// digits ([`push_num`]), up to 5e-10 of the time away from the exact one, so a row of the
+/// sample at `time_s` may read just below it: a row within 1e-9 of `time_s` (relative) counts as
+/// at `time_s`. Samples are always much further apart than that (20 us at 40 ms: 5e-4).
 pub(crate) fn truncate_csv_after(path: &Path, time_s: f64) -> Result<()> {
     let Ok(f) = File::open(path) else {
         return Ok(());
@@ -564,7 +591,7 @@ pub(crate) fn truncate_csv_after(path: &Path, time_s: f64) -> Result<()> {
                 .split(',')
                 .next()
                 .and_then(|t| t.parse::<f64>().ok())
-                .is_some_and(|t| t < time_s - 1e-15);
+                .is_some_and(|t| t < time_s - PRINTED_TIME_TOLERANCE * time_s.abs().max(1e-6));
         if keep {
             kept.push_str(&line);
             kept.push('\n');
@@ -572,6 +599,9 @@ pub(crate) fn truncate_csv_after(path: &Path, time_s: f64) -> Result<()> {
     }
     std::fs::write(path, kept).map_err(io(path))
 }
+
+/// Relative tolerance of a time read back from a CSV row (10 significant digits printed).
+const PRINTED_TIME_TOLERANCE: f64 = 1e-9;
 
 const MAGIC: &[u8; 8] = b"SQLCKPT1";
 /// Marks the optional multi-rate tail of a checkpoint (after the auxiliary state).
@@ -770,4 +800,62 @@ pub fn read_checkpoint(solver: &mut Solver, path: &Path) -> Result<Vec<f64>> {
         mr.last_acceleration = acc;
     }
     Ok(aux)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A resume from sample times of a 40 ms run sampled at 50 kHz (the paper cases: 155 steps
+    /// of 129 ns a sample, times summed step by step as the solver does): the truncated file
+    /// ends with the sample before, whichever way the printed time of the sample itself rounded.
+    #[test]
+    fn truncation_drops_the_row_of_the_resumed_sample_however_its_time_was_printed() {
+        let dir = std::env::temp_dir().join(format!("squeal-truncate-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("forces.csv");
+        let dt_s = 2e-5 / 155.0;
+        let mut times = Vec::with_capacity(2000);
+        let mut t = 0.0;
+        for step in 0..2000 * 155 {
+            if step % 155 == 0 {
+                times.push(t);
+            }
+            t += dt_s;
+        }
+        let sample_time = |k: u64| times[k as usize];
+        let mut whole = String::from("time_s,force_n\n");
+        for k in 0..2000 {
+            push_num(&mut whole, sample_time(k));
+            whole.push_str(",1.0\n");
+        }
+        let mut printed_below = 0;
+        for k in (1..2000).step_by(7) {
+            std::fs::write(&path, &whole).unwrap();
+            truncate_csv_after(&path, sample_time(k)).unwrap();
+            let text = std::fs::read_to_string(&path).unwrap();
+            let last: f64 = text
+                .lines()
+                .last()
+                .unwrap()
+                .split(',')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            assert_eq!(text.lines().count() as u64, k + 1, "resume at sample {k}");
+            assert!(
+                (last - sample_time(k - 1)).abs() < 1e-12,
+                "sample {k}: last row {last}"
+            );
+            let mut row = String::new();
+            push_num(&mut row, sample_time(k));
+            if row.parse::<f64>().unwrap() < sample_time(k) - 1e-15 {
+                printed_below += 1;
+            }
+        }
+        // The case that left a repeated row in `paper` case 2 (2026-11-28) is among them.
+        assert!(printed_below > 0);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -152,3 +152,33 @@ pub(super) struct AuxNodeSet {
     pub(super) springs: usize,
     pub(super) loads: usize,
 }
+
+/// What a run returns.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RunSummary {
+    /// "completed", "unstable" or "interrupted" (stopped on request; a checkpoint of the step
+    /// reached was written, `--resume` goes on); "running" in the record written with each
+    /// periodic checkpoint while the run goes on (left so when the process ended without a
+    /// record of its own: killed, or the machine stopped).
+    pub status: String,
+    /// Diagnosis when unstable, or where an interrupted run stopped.
+    pub diagnosis: Option<String>,
+    /// Steps taken (in total, across resumes).
+    pub steps: u64,
+    /// Simulated time reached (s).
+    pub time_s: f64,
+    /// Time step (s).
+    pub time_step_s: f64,
+    /// What limits the stable step.
+    pub time_step_limited_by: String,
+    /// Wall-clock time of this invocation (s).
+    pub wall_s: f64,
+    /// Steps per second of this invocation.
+    pub steps_per_second: f64,
+    /// Largest energy balance ratio seen.
+    pub max_balance_ratio: f64,
+    /// Last energy report.
+    pub last_energy: Option<EnergyReport>,
+    /// Whether the run resumed from a checkpoint, and from which time.
+    pub resumed_from_s: Option<f64>,
+}

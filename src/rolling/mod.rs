@@ -304,28 +304,72 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
     m.contact.resuming = opts.resume;
     // The invariants are the rolling run's: the frictionless preload's steps are left out.
     m.contact.pair.reset_monitors();
-    let summary = run(&mut m.solver, &mut m.contact, &run_opts)?;
-    m.contact.flush()?;
-    let (traction, initial_n) =
-        force_statistics(&opts.out_dir.join("contact_forces.csv"), case.end_time_s);
-    let record = RunRecord {
+    let parts = RecordParts {
         case: case.name.clone(),
         case_file: loaded.source.display().to_string(),
         scenario: loaded.scenario.scenario.name.clone(),
         settings: case,
-        model: m.info,
+        model: m.info.clone(),
         preload,
         static_preload,
-        run: summary,
-        measured_traction_coefficient: traction,
-        initial_normal_force_n: initial_n,
-        longest_contact_loss_s: m.contact.longest_loss_s,
-        largest_node_shear_over_bound: m.contact.pair.largest_shear_over_bound,
-        deepest_penetration_m: m.contact.pair.deepest_penetration_m,
-        contact_point: m.contact.contact_point,
     };
-    write_record(&record, &opts.out_dir.join("run.json"), earlier.as_ref())?;
+    let record_path = opts.out_dir.join("run.json");
+    // `run.json` with each periodic checkpoint (status `running`): a process killed later
+    // leaves the record of its run up to its last checkpoint, which the resume merges.
+    let at_checkpoint = (parts.clone(), record_path.clone(), earlier.clone());
+    m.contact.checkpoint_record = Some(Box::new(move |summary, contact| {
+        let (parts, path, earlier) = &at_checkpoint;
+        write_record(
+            &parts.record(summary.clone(), contact),
+            path,
+            earlier.as_ref(),
+        )
+    }));
+    let summary = run(&mut m.solver, &mut m.contact, &run_opts)?;
+    m.contact.checkpoint_record = None;
+    m.contact.flush()?;
+    let record = parts.record(summary, &m.contact);
+    write_record(&record, &record_path, earlier.as_ref())?;
     Ok(record)
+}
+
+/// What `run.json` says of a run that does not change while it rolls.
+#[derive(Clone)]
+struct RecordParts {
+    case: String,
+    case_file: String,
+    scenario: String,
+    settings: RollingCase,
+    model: ModelInfo,
+    preload: Option<PreloadReport>,
+    static_preload: Option<StaticReport>,
+}
+
+impl RecordParts {
+    /// The record with the engine's `summary` and the contact's monitors now (forces from
+    /// `contact_forces.csv` as written so far).
+    fn record(&self, summary: RunSummary, contact: &RollingContact) -> RunRecord {
+        let (traction, initial_n) = force_statistics(
+            &contact.out_dir.join("contact_forces.csv"),
+            self.settings.end_time_s,
+        );
+        RunRecord {
+            case: self.case.clone(),
+            case_file: self.case_file.clone(),
+            scenario: self.scenario.clone(),
+            settings: self.settings.clone(),
+            model: self.model.clone(),
+            preload: self.preload,
+            static_preload: self.static_preload.clone(),
+            run: summary,
+            measured_traction_coefficient: traction,
+            initial_normal_force_n: initial_n,
+            longest_contact_loss_s: contact.longest_loss_s,
+            largest_node_shear_over_bound: contact.pair.largest_shear_over_bound,
+            deepest_penetration_m: contact.pair.deepest_penetration_m,
+            contact_point: contact.contact_point,
+        }
+    }
 }
 
 /// The `run.json` an earlier segment of a resumed run wrote; None (with a warning) when it is
@@ -358,7 +402,10 @@ fn write_record(
     };
     let text =
         serde_json::to_string_pretty(&merged).map_err(|e| Error::Numerical(e.to_string()))?;
-    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+    // Through a temporary file: a kill while writing leaves the last whole record.
+    crate::output::write_file_staged(path, |staging| {
+        std::fs::write(staging, &text).map_err(|e| Error::io(staging, e))
+    })
 }
 
 /// Wheel centre (mean of the hub bore nodes) displacement and velocity, x / y / z.

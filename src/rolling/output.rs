@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::instruments::{contact_kinematics, ContactKinematics, ContactPointRecord};
 use crate::contact::{patch, ContactPair};
-use crate::explicit::run::{push_num, truncate_csv_after};
+use crate::explicit::run::{push_num, truncate_csv_after, RunSummary};
 use crate::explicit::solver::OutputFields;
 use crate::explicit::AuxForces;
 use crate::mesh::P3;
@@ -46,7 +46,14 @@ pub struct RollingContact {
     pub contact_point: Option<ContactPointRecord>,
     /// Longitudinal force of the forward guide on the axle at the last sample (N).
     pub(super) forward_guide_force_n: f64,
+    /// Writes the run's record at each periodic checkpoint (set by the rolling run).
+    pub(super) checkpoint_record: Option<CheckpointRecord>,
 }
+
+/// What writes a rolling run's record at a checkpoint: the engine's summary then, and the
+/// contact's monitors.
+pub(super) type CheckpointRecord =
+    Box<dyn FnMut(&RunSummary, &RollingContact) -> Result<()> + Send + Sync>;
 
 impl RollingContact {
     /// The outputs of a rolling run over `pair`: `axle_body` is the rigid body whose reaction is
@@ -80,6 +87,7 @@ impl RollingContact {
             kinematics: None,
             contact_point: None,
             forward_guide_force_n: 0.0,
+            checkpoint_record: None,
         }
     }
 
@@ -377,6 +385,17 @@ impl AuxForces for RollingContact {
             self.patch_times_s.remove(0);
         }
         Ok(())
+    }
+
+    fn on_checkpoint(&mut self, summary: &RunSummary) -> Result<()> {
+        // The record reads `contact_forces.csv` as written so far.
+        self.flush()?;
+        let Some(mut write) = self.checkpoint_record.take() else {
+            return Ok(());
+        };
+        let written = write(summary, self);
+        self.checkpoint_record = Some(write);
+        written
     }
 
     fn checkpoint_state(&self) -> Vec<f64> {

@@ -18,6 +18,12 @@
 //! - `segments` lists every invocation in order (from and to time, steps, wall time, status) and
 //!   `total_wall_s` sums their wall times.
 //!
+//! A run writes its record with each periodic checkpoint too, with status `running`. A record
+//! still `running` when a resume reads it is that of a process that ended without writing its
+//! own (killed, or the machine stopped): its segment is listed with status `killed`, up to its
+//! last checkpoint, which is where the resume goes on from; the steps it ran past that
+//! checkpoint were lost and run again, and their wall time is not counted.
+//!
 //! The records are merged as JSON values, so that a record written by an older binary (with
 //! fewer fields) still merges: a field missing on either side is taken from the other.
 
@@ -45,12 +51,19 @@ fn segment_of(record: &Value) -> Value {
     })
 }
 
-/// The segments an earlier record holds: its own list, or itself as the first one.
+/// The segments an earlier record holds: its own list, or itself as the first one; a segment
+/// still `running` was killed after its last checkpoint (module docs).
 fn segments_of(record: &Value) -> Vec<Value> {
-    match record["segments"].as_array() {
+    let mut list = match record["segments"].as_array() {
         Some(list) => list.clone(),
         None => vec![segment_of(record)],
+    };
+    for segment in &mut list {
+        if segment["status"] == "running" {
+            segment["status"] = json!("killed");
+        }
     }
+    list
 }
 
 /// `record` with its `segments` (itself alone) and `total_wall_s`: the record of a run that
@@ -261,6 +274,26 @@ mod tests {
         assert_eq!(segments[0]["status"], "interrupted");
         // The start of rolling survives two resumes.
         assert_eq!(third["static_preload"]["iterations"], 5);
+    }
+
+    #[test]
+    fn a_segment_left_running_is_listed_as_killed_up_to_its_checkpoint() {
+        // The record written at the first segment's last checkpoint (10 ms, 50 s of wall);
+        // the process was then killed, so the resume reads it as it was.
+        let mut at_checkpoint = first_segment();
+        at_checkpoint["run"]["status"] = json!("running");
+        let at_checkpoint = with_segments(at_checkpoint);
+        assert_eq!(at_checkpoint["segments"][0]["status"], "running");
+        let merged = merge_resumed(&at_checkpoint, resumed_segment());
+        let segments = merged["segments"].as_array().unwrap();
+        assert_eq!(segments.len(), 2);
+        assert_eq!(segments[0]["status"], "killed");
+        assert_eq!(segments[0]["to_s"], segments[1]["from_s"]);
+        assert_eq!(segments[1]["status"], "completed");
+        // Its wall time up to the checkpoint counts, and its extremes stay.
+        assert_eq!(merged["total_wall_s"], 70.0);
+        assert_eq!(merged["run"]["max_balance_ratio"], 2e-7);
+        assert_eq!(merged["static_preload"]["iterations"], 5);
     }
 
     #[test]
