@@ -61,6 +61,23 @@ fn assert_samples_without_gap_or_repeat(out: &Path, end_ms: f64) {
     }
 }
 
+/// `squeal simulate --resume` of `case` in `out` until `end_ms`; it must succeed.
+fn resume_until(case: &Path, out: &Path, end_ms: f64) {
+    let resumed = squeal()
+        .args(["simulate", "--quiet", "--resume", "--scenario"])
+        .arg(case)
+        .arg("--out")
+        .arg(out)
+        .args(["--end-time-ms", &format!("{end_ms}")])
+        .output()
+        .expect("resume");
+    assert!(
+        resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+}
+
 fn read_json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
@@ -126,19 +143,7 @@ fn a_run_killed_after_a_checkpoint_resumes_with_its_record() {
     assert!(!at_checkpoint["static_preload"].is_null() || !at_checkpoint["preload"].is_null());
 
     let end_ms = checkpoint_s * 1e3 + 0.2;
-    let resumed = squeal()
-        .args(["simulate", "--quiet", "--resume", "--scenario"])
-        .arg(&case_path)
-        .arg("--out")
-        .arg(&out)
-        .args(["--end-time-ms", &format!("{end_ms}")])
-        .output()
-        .expect("resume");
-    assert!(
-        resumed.status.success(),
-        "{}",
-        String::from_utf8_lossy(&resumed.stderr)
-    );
+    resume_until(&case_path, &out, end_ms);
     assert_samples_without_gap_or_repeat(&out, end_ms);
     let merged = read_json(&out.join("run.json"));
     assert_eq!(merged["run"]["status"], "completed");
@@ -196,16 +201,12 @@ fn sigterm_stops_with_a_checkpoint_and_resume_goes_on() {
     assert!(kill.success());
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(130), "exit status {status}");
-    let record: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("status.json")).unwrap()).unwrap();
+    let record = read_json(&out.join("status.json"));
     assert_eq!(record["status"], "interrupted", "{record}");
     let stopped_at_s = record["time_s"].as_f64().unwrap();
     assert!(stopped_at_s > 0.0 && stopped_at_s < 0.05, "{stopped_at_s}");
     assert!(out.join("checkpoint.bin").exists());
-    let read_json = |name: &str| -> serde_json::Value {
-        serde_json::from_str(&std::fs::read_to_string(out.join(name)).unwrap()).unwrap()
-    };
-    let first = read_json("run.json");
+    let first = read_json(&out.join("run.json"));
     assert!(
         !first["static_preload"].is_null() || !first["preload"].is_null(),
         "the first segment ran a preload: {first}"
@@ -213,27 +214,14 @@ fn sigterm_stops_with_a_checkpoint_and_resume_goes_on() {
 
     // Resume for 0.2 ms more: completes, and the histories go on without a gap or a repeat.
     let end_ms = stopped_at_s * 1e3 + 0.2;
-    let resumed = squeal()
-        .args(["simulate", "--quiet", "--resume", "--scenario"])
-        .arg(&case)
-        .arg("--out")
-        .arg(&out)
-        .args(["--end-time-ms", &format!("{end_ms}")])
-        .output()
-        .expect("resume");
-    assert!(
-        resumed.status.success(),
-        "{}",
-        String::from_utf8_lossy(&resumed.stderr)
-    );
-    let record: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("status.json")).unwrap()).unwrap();
+    resume_until(&case, &out, end_ms);
+    let record = read_json(&out.join("status.json"));
     assert_eq!(record["status"], "completed", "{record}");
     assert_samples_without_gap_or_repeat(&out, end_ms);
     // The resume's run.json keeps the whole run's record (src/rolling/record.rs): the preload
     // and the loaded wheel from the first segment, which the resume neither runs nor measures,
     // extremes over both segments, and both segments listed.
-    let merged = read_json("run.json");
+    let merged = read_json(&out.join("run.json"));
     assert_eq!(merged["preload"], first["preload"]);
     assert_eq!(merged["static_preload"], first["static_preload"]);
     for field in ["wheel_centre_m", "rolling_radius_m", "preload_load_error"] {
