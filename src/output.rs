@@ -6,6 +6,9 @@
 //!   (`.NAME.partial-PID`) and moves the result into place only when it has succeeded
 //!   ([`StagedDir`]): a failure leaves nothing behind, and an existing folder is changed only
 //!   by a complete result. Dropping an uncommitted stage removes it.
+//! - A run claims its run directory while it writes there ([`FolderLock`], `run.lock` with its
+//!   process id), so that a second run (a resume started by hand, or by a script, while the
+//!   first still goes) is refused instead of writing into the same files.
 
 use std::path::{Path, PathBuf};
 
@@ -153,6 +156,108 @@ pub fn write_file_staged<T>(path: &Path, write: impl FnOnce(&Path) -> Result<T>)
     }
 }
 
+/// The file a run holds in its run directory while it writes there.
+pub const LOCK_FILE: &str = "run.lock";
+
+/// A run's claim on its run directory: `run.lock` with the process id, removed when the claim
+/// is dropped. A lock whose process no longer runs (killed: nothing removed it) is stale and
+/// is taken over.
+#[derive(Debug)]
+pub struct FolderLock {
+    path: PathBuf,
+}
+
+impl FolderLock {
+    /// Claims `dir` (created if missing), or says which live process holds it.
+    pub fn acquire(dir: &Path) -> Result<FolderLock> {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        let path = dir.join(LOCK_FILE);
+        // Twice at most: the second attempt follows the removal of a stale lock.
+        for _ in 0..2 {
+            match std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&path)
+            {
+                Ok(mut file) => {
+                    use std::io::Write as _;
+                    write!(file, "{}", std::process::id()).map_err(|e| Error::io(&path, e))?;
+                    return Ok(FolderLock { path });
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    if let Some(pid) = FolderLock::holder(dir) {
+                        return Err(held_by(dir, pid));
+                    }
+                    std::fs::remove_file(&path).map_err(|e| Error::io(&path, e))?;
+                }
+                Err(e) => return Err(Error::io(&path, e)),
+            }
+        }
+        Err(Error::io(
+            &path,
+            std::io::Error::other("another process claimed the folder at the same moment"),
+        ))
+    }
+
+    /// The live process holding `dir`'s lock, if any.
+    pub fn holder(dir: &Path) -> Option<u32> {
+        let text = std::fs::read_to_string(dir.join(LOCK_FILE)).ok()?;
+        let pid = text.trim().parse::<u32>().ok()?;
+        process_runs_squeal(pid).then_some(pid)
+    }
+
+    /// The error for a run refused because `dir` is held (by [`FolderLock::holder`]).
+    pub fn refuse_if_held(dir: &Path) -> Result<()> {
+        match FolderLock::holder(dir) {
+            Some(pid) => Err(held_by(dir, pid)),
+            None => Ok(()),
+        }
+    }
+}
+
+impl Drop for FolderLock {
+    fn drop(&mut self) {
+        // Best effort: a lock left behind is stale once this process has ended.
+        let _ = std::fs::remove_file(&self.path);
+    }
+}
+
+fn held_by(dir: &Path, pid: u32) -> Error {
+    Error::input(
+        dir.display().to_string(),
+        "--out",
+        format!(
+            "a run (process {pid}) is writing into this folder; wait for it to end, or stop it \
+             (SIGTERM or Ctrl-C write a checkpoint) and then resume"
+        ),
+    )
+}
+
+/// Whether process `pid` runs and is a run of this program: this process, one of the same
+/// executable, or one whose command line names `squeal` (a pid reused by another program is
+/// not a holder). Read from `/proc`; where there is none, no process counts as running and a
+/// lock is always taken over.
+fn process_runs_squeal(pid: u32) -> bool {
+    if pid == std::process::id() {
+        return true;
+    }
+    let proc_dir = Path::new("/proc").join(pid.to_string());
+    if !proc_dir.exists() {
+        return false;
+    }
+    let same_exe = match (
+        std::fs::read_link(proc_dir.join("exe")),
+        std::fs::read_link("/proc/self/exe"),
+    ) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    let names_squeal = std::fs::read(proc_dir.join("cmdline"))
+        .map(|c| String::from_utf8_lossy(&c).contains("squeal"))
+        .unwrap_or(false);
+    same_exe || names_squeal
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -238,5 +343,39 @@ mod tests {
         assert_eq!(std::fs::read_to_string(&file).unwrap(), "new");
         assert_eq!(std::fs::read_dir(&root).unwrap().count(), 2);
         let _ = std::fs::remove_dir_all(&root);
+    }
+
+    #[test]
+    fn a_held_folder_is_refused_and_a_stale_lock_is_taken_over() {
+        let dir = temp("lock");
+        let lock = FolderLock::acquire(&dir).unwrap();
+        assert_eq!(FolderLock::holder(&dir), Some(std::process::id()));
+        let refused = FolderLock::acquire(&dir).unwrap_err().to_string();
+        assert!(
+            refused.contains(&format!("process {}", std::process::id()))
+                && refused.contains("--out"),
+            "{refused}"
+        );
+        assert!(FolderLock::refuse_if_held(&dir).is_err());
+        drop(lock);
+        assert!(!dir.join(LOCK_FILE).exists());
+        assert!(FolderLock::refuse_if_held(&dir).is_ok());
+        // A lock left by a process that has ended (as after a kill) is taken over.
+        let ended = std::process::Command::new("true").spawn().unwrap();
+        let ended_pid = ended.id();
+        let mut ended = ended;
+        ended.wait().unwrap();
+        std::fs::write(dir.join(LOCK_FILE), ended_pid.to_string()).unwrap();
+        assert_eq!(FolderLock::holder(&dir), None);
+        let taken = FolderLock::acquire(&dir).unwrap();
+        assert_eq!(
+            std::fs::read_to_string(dir.join(LOCK_FILE)).unwrap(),
+            std::process::id().to_string()
+        );
+        drop(taken);
+        // So is one that does not hold a process id.
+        std::fs::write(dir.join(LOCK_FILE), "not a pid").unwrap();
+        drop(FolderLock::acquire(&dir).unwrap());
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -83,7 +83,8 @@ fn read_json(path: &Path) -> serde_json::Value {
 }
 
 /// A run killed outright (SIGKILL: no handler, nothing flushed) after a periodic checkpoint
-/// leaves `status.json` and `run.json` of that checkpoint, with status `running`; the resume
+/// leaves `status.json` and `run.json` of that checkpoint, with status `running` (a second run
+/// into its folder while it goes is refused); the resume
 /// goes on from the checkpoint without a repeated or missing sample, and its `run.json` lists
 /// the killed segment up to its checkpoint, with its wall time and the preload.
 #[cfg(unix)]
@@ -128,6 +129,22 @@ fn a_run_killed_after_a_checkpoint_resumes_with_its_record() {
         }
         std::thread::sleep(Duration::from_millis(10));
     }
+    // A resume started while the run still goes is refused (exit 2), naming the process, and
+    // leaves the run alone.
+    let beside = squeal()
+        .args(["simulate", "--quiet", "--resume", "--scenario"])
+        .arg(&case_path)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .expect("second run");
+    let err = String::from_utf8_lossy(&beside.stderr);
+    assert_eq!(beside.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains(&format!("process {}", child.id())) && err.contains("--out"),
+        "{err}"
+    );
+    assert!(child.try_wait().unwrap().is_none(), "the run stopped");
     let kill = Command::new("kill")
         .args(["-KILL", &child.id().to_string()])
         .status()
@@ -142,8 +159,11 @@ fn a_run_killed_after_a_checkpoint_resumes_with_its_record() {
     assert_eq!(at_checkpoint["run"]["time_s"], status["time_s"]);
     assert!(!at_checkpoint["static_preload"].is_null() || !at_checkpoint["preload"].is_null());
 
+    // The killed run's claim on the folder is left behind, stale: the resume takes it over.
+    assert!(out.join("run.lock").exists());
     let end_ms = checkpoint_s * 1e3 + 0.2;
     resume_until(&case_path, &out, end_ms);
+    assert!(!out.join("run.lock").exists());
     assert_samples_without_gap_or_repeat(&out, end_ms);
     let merged = read_json(&out.join("run.json"));
     assert_eq!(merged["run"]["status"], "completed");

@@ -208,7 +208,11 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
             "runs with a prescribed creepage cannot be resumed; start them again",
         ));
     }
+    // A run still writing into the folder (a resume started beside it) keeps it: checked
+    // before an `--overwrite` could clear it, and held from here to the end of this run.
+    crate::output::FolderLock::refuse_if_held(&opts.out_dir)?;
     prepare_run_directory(opts)?;
+    let _claim = crate::output::FolderLock::acquire(&opts.out_dir)?;
     // Read before anything of the resume is written.
     let earlier = opts
         .resume
