@@ -333,7 +333,7 @@ pub fn run<A: AuxForces + ?Sized>(
             bar.set_message(format!(
                 "t = {:.3} ms, {:.0} steps/s",
                 solver.time_s * 1e3,
-                (solver.step - start_step) as f64 / segment.wall.elapsed().as_secs_f64().max(1e-9)
+                segment.steps_per_second(solver, segment.wall.elapsed().as_secs_f64())
             ));
         }
         while next_snapshot < snapshots.len()
@@ -408,6 +408,11 @@ struct Segment {
 }
 
 impl Segment {
+    /// Steps of this invocation per second of `wall_s`.
+    fn steps_per_second(&self, solver: &Solver, wall_s: f64) -> f64 {
+        (solver.step - self.start_step) as f64 / wall_s.max(1e-9)
+    }
+
     /// The run's summary now, with `status` and `diagnosis`.
     fn summary(
         &self,
@@ -425,7 +430,7 @@ impl Segment {
             time_step_s: solver.dt_s,
             time_step_limited_by: self.limited_by.clone(),
             wall_s,
-            steps_per_second: (solver.step - self.start_step) as f64 / wall_s.max(1e-9),
+            steps_per_second: self.steps_per_second(solver, wall_s),
             max_balance_ratio,
             last_energy: solver.last_energy(),
             resumed_from_s: self.resumed_from,
