@@ -156,6 +156,16 @@ pub fn write_file_staged<T>(path: &Path, write: impl FnOnce(&Path) -> Result<T>)
     }
 }
 
+/// Writes `value` as pretty JSON to `path` through [`write_file_staged`]: a process killed
+/// while writing leaves the last whole file (a run's `status.json` and `run.json`, rewritten
+/// at each checkpoint).
+pub fn write_json_staged(path: &Path, value: &impl serde::Serialize) -> Result<()> {
+    let text = serde_json::to_string_pretty(value).map_err(|e| Error::Numerical(e.to_string()))?;
+    write_file_staged(path, |staging| {
+        std::fs::write(staging, &text).map_err(|e| Error::io(staging, e))
+    })
+}
+
 /// The file a run holds in its run directory while it writes there.
 pub const LOCK_FILE: &str = "run.lock";
 

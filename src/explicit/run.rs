@@ -359,7 +359,7 @@ pub fn run<A: AuxForces + ?Sized>(
                 ckpt_path.display()
             );
             let summary = segment.summary(solver, "running", Some(diagnosis), max_ratio);
-            write_status(&status_path, &summary)?;
+            crate::output::write_json_staged(&status_path, &summary)?;
             aux.on_checkpoint(&summary)?;
         }
         if k % 64 == 0 {
@@ -392,7 +392,7 @@ pub fn run<A: AuxForces + ?Sized>(
         None => None,
     };
     let summary = segment.summary(solver, status, diagnosis, max_ratio);
-    write_status(&status_path, &summary)?;
+    crate::output::write_json_staged(&status_path, &summary)?;
     match failure {
         Some(e) => Err(e),
         None => Ok(summary),
@@ -436,16 +436,6 @@ impl Segment {
             resumed_from_s: self.resumed_from,
         }
     }
-}
-
-/// Writes `status.json` through a temporary file, so that a kill mid-write leaves the last
-/// whole one.
-fn write_status(path: &Path, summary: &RunSummary) -> Result<()> {
-    let text =
-        serde_json::to_string_pretty(summary).map_err(|e| Error::Numerical(e.to_string()))?;
-    crate::output::write_file_staged(path, |staging| {
-        std::fs::write(staging, &text).map_err(io(staging))
-    })
 }
 
 pub(crate) fn push_num(s: &mut String, x: f64) {

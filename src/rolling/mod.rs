@@ -404,12 +404,7 @@ fn write_record(
         Some(before) => record::merge_resumed(before, value),
         None => record::with_segments(value),
     };
-    let text =
-        serde_json::to_string_pretty(&merged).map_err(|e| Error::Numerical(e.to_string()))?;
-    // Through a temporary file: a kill while writing leaves the last whole record.
-    crate::output::write_file_staged(path, |staging| {
-        std::fs::write(staging, &text).map_err(|e| Error::io(staging, e))
-    })
+    crate::output::write_json_staged(path, &merged)
 }
 
 /// Wheel centre (mean of the hub bore nodes) displacement and velocity, x / y / z.
