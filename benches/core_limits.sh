@@ -12,6 +12,13 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 squeal="${1:-target/release/squeal}"
+if [ ! -x "$squeal" ]; then
+  echo "core_limits: no executable squeal binary at $squeal (build it with cargo build --release, or pass its path)" >&2
+  exit 2
+fi
+for tool in valgrind gcc; do
+  command -v "$tool" > /dev/null || { echo "core_limits: $tool is needed and not installed" >&2; exit 2; }
+done
 elements=20000
 steps_a=10
 steps_b=30
