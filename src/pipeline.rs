@@ -24,7 +24,7 @@ pub type ModesStage = dyn Fn(&Path) -> Result<()>;
 /// rigid and low axial modes become the (0,0) axial mode at 229 Hz, which the demo cases'
 /// lateral vibration shows at 227-234 Hz). Modes with 2 or more nodal diameters do not move
 /// the axle and are the same either way.
-pub fn axisym_modes_stage(wheel: crate::geometry::wheel::WheelSpec) -> Box<ModesStage> {
+pub fn axisym_modes_stage(wheel: crate::input::wheel::WheelSpec) -> Box<ModesStage> {
     Box::new(move |dir: &Path| -> Result<()> {
         use crate::modal::axisym::{
             solve, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions,

@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::geometry::wheel::{WheelMeshSpec, WheelSpec};
 use crate::geometry::{rail54e1, s1002};
+use crate::input::wheel::{WheelMeshSpec, WheelSpec};
 use crate::input::{parse_json, read_json, Checker};
 use crate::mesh::track::{track_mesh, RailZone, TrackLayout};
 use crate::mesh::wheel::{wheel_mesh, TreadBandSpec, WheelPlacement};

@@ -2,9 +2,9 @@
 //! later one, and no two files import each other (directly or round a circle).
 //!
 //! The stages, earliest first (a module may import its own and earlier ones):
-//! error, input, table, friction, material, output, uff < signal, geometry < mesh < fem < scenario, kalker < model < modal
-//! (with axisym and hammer inside), iterative < explicit < contact < rolling < identify < analysis, growth, stability <
-//! report < pipeline. The binary (main.rs, cli/) may import anything.
+//! error, table, friction, material, output, random < signal, geometry, linalg < input < mesh <
+//! fem < scenario, kalker < model < modal < testdata, explicit < contact < rolling < stability <
+//! analysis < report < pipeline. The binary (main.rs, cli/) may import anything.
 //!
 //! What counts as an import: a path `crate::a::b...` or `super::...` in code (comments and
 //! doc comments are left out; a brace list is expanded one level).
@@ -15,20 +15,21 @@ use std::path::{Path, PathBuf};
 /// Stage rank of each top-level module.
 fn rank(module: &str) -> Option<u32> {
     Some(match module {
-        "error" | "input" | "table" | "friction" | "material" | "output" | "uff" => 0,
-        "signal" | "geometry" => 1,
-        "mesh" => 2,
-        "fem" => 3,
-        "scenario" | "kalker" => 4,
-        "model" => 5,
-        "modal" | "iterative" => 6,
-        "explicit" => 7,
-        "contact" => 8,
-        "rolling" => 9,
-        "identify" => 10,
-        "analysis" | "growth" | "stability" => 11,
-        "report" => 12,
-        "pipeline" => 13,
+        "error" | "table" | "friction" | "material" | "output" | "random" => 0,
+        "signal" | "geometry" | "linalg" => 1,
+        "input" => 2,
+        "mesh" => 3,
+        "fem" => 4,
+        "scenario" | "kalker" => 5,
+        "model" => 6,
+        "modal" => 7,
+        "testdata" | "explicit" => 8,
+        "contact" => 9,
+        "rolling" => 10,
+        "stability" => 11,
+        "analysis" => 12,
+        "report" => 13,
+        "pipeline" => 14,
         _ => return None,
     })
 }

@@ -9,7 +9,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
-use squeal::geometry::wheel::WheelSpec;
+use squeal::input::wheel::WheelSpec;
 use squeal::modal::axisym::{self, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions};
 use squeal::output::{Commit, StagedDir};
 use squeal::{Error, Result};
@@ -178,7 +178,7 @@ pub fn run(args: AxisymArgs) -> Result<()> {
                 .find(|m| {
                     m.harmonic == n
                         && m.nodal_circles == 0
-                        && m.family == squeal::identify::ModeFamily::Axial
+                        && m.family == squeal::analysis::identify::ModeFamily::Axial
                 })
                 .map(|m| format!("(0,{n}) {:.1} Hz", m.frequency_hz))
         })
@@ -205,8 +205,8 @@ pub fn run(args: AxisymArgs) -> Result<()> {
     Ok(())
 }
 
-fn family_name(f: squeal::identify::ModeFamily) -> &'static str {
-    use squeal::identify::ModeFamily::*;
+fn family_name(f: squeal::analysis::identify::ModeFamily) -> &'static str {
+    use squeal::analysis::identify::ModeFamily::*;
     match f {
         Axial => "axial",
         Radial => "radial",

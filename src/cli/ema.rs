@@ -8,11 +8,11 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 use rustfft::num_complex::Complex;
 use serde_json::json;
-use squeal::modal::ema::peak_picking::peak_picking;
-use squeal::modal::ema::{estimate_lscf, FrfSet, TestDof, TestMode};
 use squeal::output::{Commit, StagedDir};
 use squeal::report::ema_charts::write_stabilisation_chart;
-use squeal::uff::{self, NodalData, NodalValues, UffFile};
+use squeal::testdata::ema::peak_picking::peak_picking;
+use squeal::testdata::ema::{estimate_lscf, FrfSet, TestDof, TestMode};
+use squeal::testdata::uff::{self, NodalData, NodalValues, UffFile};
 use squeal::{Error, Result};
 
 /// Estimator.
@@ -41,7 +41,7 @@ pub struct EmaArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub fmax_hz: Option<f64>,
     /// Highest LSCF model order (even, 2..=200); orders 2, 4, ... up to it are computed.
-    #[arg(long, default_value_t = squeal::modal::ema::uff_test::DEFAULT_MAX_ORDER as i64, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = squeal::testdata::ema::uff_modes::DEFAULT_MAX_ORDER as i64, allow_negative_numbers = true)]
     pub max_order: i64,
     /// Output directory.
     #[arg(long, default_value = "reports/ema")]

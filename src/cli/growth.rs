@@ -4,8 +4,10 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use squeal::growth::{band_growth, bands_for_modes, read_column, ridges_csv, to_markdown};
-use squeal::identify::{parse_mode_label, ModeRef};
+use squeal::analysis::growth::{
+    band_growth, bands_for_modes, read_column, ridges_csv, to_markdown,
+};
+use squeal::analysis::identify::{parse_mode_label, ModeRef};
 use squeal::output::{Commit, StagedDir};
 use squeal::{Error, Result};
 

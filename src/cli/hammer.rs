@@ -6,14 +6,14 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use squeal::mesh::P3;
-use squeal::modal::ema::fe_comparison::compare_with_fe;
-use squeal::modal::ema::pairing::FeShape;
-use squeal::modal::ema::uff_test::{
-    nearest_node, sample_fe_shape, test_from_uff, DEFAULT_MAX_ORDER,
-};
-use squeal::modal::hammer::{compare, read_hammer_csv, MeasuredMode};
 use squeal::modal::mode::ModeRef;
 use squeal::report::ema_charts::{write_mac_chart, write_stabilisation_chart};
+use squeal::testdata::ema::fe_comparison::compare_with_fe;
+use squeal::testdata::ema::pairing::FeShape;
+use squeal::testdata::ema::uff_modes::{
+    nearest_node, sample_fe_shape, test_from_uff, DEFAULT_MAX_ORDER,
+};
+use squeal::testdata::hammer::{compare, read_hammer_csv, MeasuredMode};
 use squeal::{Error, Result};
 
 /// FE mode shapes on the mesh: node positions (m) and, per FE mode (same order as the refs),
@@ -54,7 +54,7 @@ pub fn compare_hammer(
         return Ok(measured);
     }
     let name = path.display().to_string();
-    let file = squeal::uff::read_uff(path)?;
+    let file = squeal::testdata::uff::read_uff(path)?;
     let test = test_from_uff(&file, &name, fmax_hz, DEFAULT_MAX_ORDER)?;
     println!(
         "{name}: {} test modes ({}) at {} DOFs",

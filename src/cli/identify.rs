@@ -4,8 +4,10 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use squeal::analysis::identify::{
+    missing_required, parse_required, to_csv, to_markdown, Tolerance,
+};
 use squeal::analysis::{analyse_run, AnalysisOptions};
-use squeal::identify::{missing_required, parse_required, to_csv, to_markdown, Tolerance};
 use squeal::output::{Commit, StagedDir};
 use squeal::{Error, Result};
 

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use squeal::geometry::wheel::WheelSpec;
+use squeal::input::wheel::WheelSpec;
 use squeal::mesh::quality::dilatational_wave_speed;
 use squeal::mesh::wheel::{wheel_mesh, WheelPlacement};
 use squeal::mesh::{gmsh, vtu, Mesh};

@@ -9,7 +9,7 @@ use squeal::output::{Commit, StagedDir};
 use clap::{Args, ValueEnum};
 use squeal::fem::assembly::write_matrix_market;
 use squeal::fem::Hex8Kind;
-use squeal::geometry::wheel::WheelSpec;
+use squeal::input::wheel::WheelSpec;
 use squeal::material::Material;
 use squeal::mesh::vtu;
 use squeal::modal::classify::ModeRecord;

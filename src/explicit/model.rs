@@ -298,21 +298,6 @@ impl Model {
         Ok(id)
     }
 
-    /// Adds `mass_kg` spread equally over `nodes` (e.g. a share of the car body on the axle end).
-    pub fn add_distributed_mass(&mut self, nodes: &[usize], mass_kg: f64) -> Result<()> {
-        if !(mass_kg >= 0.0 && mass_kg.is_finite()) || nodes.is_empty() {
-            return Err(Error::input(
-                "model",
-                "mass_kg",
-                format!("must be >= 0 on a non-empty set (got {mass_kg})"),
-            ));
-        }
-        for &n in nodes {
-            self.nodal_mass_kg[n] += mass_kg / nodes.len() as f64;
-        }
-        Ok(())
-    }
-
     /// Adds a spring-damper after checking its values.
     pub fn add_spring(&mut self, spring: Spring) -> Result<()> {
         for c in 0..3 {

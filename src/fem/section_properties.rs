@@ -61,15 +61,7 @@ pub struct SectionProperties {
     pub warping_constant: f64,
 }
 
-impl SectionProperties {
-    /// Polar moment of area about the shear centre, `int |p - S|^2 dA` (the section's
-    /// rotary inertia in torsion per unit density and length).
-    pub fn polar_moment_about_shear_centre(&self) -> f64 {
-        let dy = self.centroid[0] - self.shear_centre[0];
-        let dz = self.centroid[1] - self.shear_centre[1];
-        self.second_moment_yy + self.second_moment_zz + self.area * (dy * dy + dz * dz)
-    }
-}
+impl SectionProperties {}
 
 /// Bilinear shape functions and their derivatives at (xi, eta), nodes counter-clockwise from
 /// (-1, -1).

@@ -7,7 +7,7 @@
 //! neighbouring curves.
 
 use super::curve2d::{
-    circle_circle, nearest, norm, sample_chain, tangent_point_on_circle, Line, Segment, P2,
+    circle_circle, nearest, sample_chain, tangent_point_on_circle, Line, Segment, P2,
 };
 
 /// Rail inclination 1:40 towards the track centre, `atan(1/40)`.
@@ -197,10 +197,4 @@ pub fn top_surface_z_mm(y_mm: f64) -> Option<f64> {
 pub fn web_half_width_mm(z_mm: f64) -> f64 {
     let dz = z_mm + 82.8;
     516.0 - (508.0f64 * 508.0 - dz * dz).sqrt()
-}
-
-/// Total outline length (mm), for reports.
-pub fn outline_length_mm() -> f64 {
-    outline_segments().iter().map(|s| s.length()).sum::<f64>() + norm([0.0, 0.0])
-    // closed at the crown top by construction
 }

@@ -116,12 +116,6 @@ pub fn height_mm(s_mm: f64) -> f64 {
     }
 }
 
-/// Height of the flange-back arc at the back face, `F(-70)` (mm): below it the back face is a
-/// vertical line down to the rim.
-pub fn flange_back_arc_start_mm() -> f64 {
-    AH
-}
-
 /// Lateral position (mm) where the flange face (towards the tread) has height `f_mm`, for
 /// `f_mm` between the tread and the flange tip. Found by bisection on [-55, 0] where F falls
 /// monotonically.

@@ -60,19 +60,6 @@ pub fn flexibilities(hertz: &HertzContact, coefficients: &CreepCoefficients) -> 
     ]
 }
 
-/// Only forces, no fields: the cheap path used by the inverse mode.
-pub fn fastsim_forces(
-    hertz: &HertzContact,
-    coefficients: &CreepCoefficients,
-    mu: f64,
-    creepages: &Creepages,
-    strips: usize,
-    points_per_strip: usize,
-) -> Result<(f64, f64)> {
-    let solution = fastsim(hertz, coefficients, mu, creepages, strips, points_per_strip)?;
-    Ok((solution.force_x_n, solution.force_y_n))
-}
-
 /// Runs FASTSIM on `strips x points_per_strip` points.
 pub fn fastsim(
     hertz: &HertzContact,

@@ -47,26 +47,6 @@ pub fn by_size_function(length: f64, size: impl Fn(f64) -> f64, min_intervals: u
     positions
 }
 
-/// Positions in `[0, length]` with exactly `intervals` intervals whose sizes follow `size(s)`
-/// (only the shape of the size function matters).
-pub fn by_size_function_count(
-    length: f64,
-    size: impl Fn(f64) -> f64,
-    intervals: usize,
-) -> Vec<f64> {
-    let intervals = intervals.max(1);
-    // Scale the size function so that its density integrates to exactly `intervals`.
-    let samples = 4000usize;
-    let ds = length / samples as f64;
-    let mut total = 0.0;
-    for k in 0..samples {
-        let s0 = k as f64 * ds;
-        total += 0.5 * (1.0 / size(s0) + 1.0 / size(s0 + ds)) * ds;
-    }
-    let factor = total / intervals as f64;
-    by_size_function(length, |s| size(s) * factor, intervals)
-}
-
 /// `n` uniform intervals on `[a, b]` (n + 1 points).
 pub fn uniform(a: f64, b: f64, n: usize) -> Vec<f64> {
     let n = n.max(1);

@@ -68,11 +68,6 @@ pub const NODE_NATURAL: [[f64; 3]; 8] = [
     [-1.0, 1.0, 1.0],
 ];
 
-/// Euclidean norm.
-pub fn norm3(a: P3) -> f64 {
-    vector(a).norm()
-}
-
 /// Corner Jacobian determinants (triple products of the three corner edges); all positive for
 /// a valid, positively oriented element.
 pub fn corner_jacobians(x: &[P3; 8]) -> [f64; 8] {

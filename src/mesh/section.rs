@@ -106,24 +106,6 @@ impl SectionMesh {
         list.dedup();
     }
 
-    /// Smallest corner "Jacobian" over all quads: the cross product of the two edges at each
-    /// corner (positive for a valid counter-clockwise quad).
-    pub fn min_corner_cross(&self) -> f64 {
-        let mut worst = f64::INFINITY;
-        for q in &self.quads {
-            for k in 0..4 {
-                let p = self.nodes[q[k]];
-                let a = self.nodes[q[(k + 1) % 4]];
-                let b = self.nodes[q[(k + 3) % 4]];
-                let cross = (a[0] - p[0]) * (b[1] - p[1]) - (a[1] - p[1]) * (b[0] - p[0]);
-                let scale = ((a[0] - p[0]).hypot(a[1] - p[1]) * (b[0] - p[0]).hypot(b[1] - p[1]))
-                    .max(1e-300);
-                worst = worst.min(cross / scale);
-            }
-        }
-        worst
-    }
-
     /// Laplacian smoothing of the interior nodes (boundary nodes, those on an edge used by one
     /// quad, stay fixed): each node moves to the mean of its edge neighbours, a move being kept
     /// only if it does not lower the worst scaled corner angle of the quads around the node.
@@ -521,22 +503,6 @@ pub fn geometric_fractions(n: usize, ratio: f64) -> Vec<f64> {
     }
     if let Some(last) = out.last_mut() {
         *last = 1.0;
-    }
-    out
-}
-
-/// Fractions of a polyline split at given interior arc lengths (breakpoints that must be
-/// nodes), with `counts[p]` intervals in piece p distributed uniformly by arc length.
-pub fn fractions_with_breaks(length: f64, breaks: &[f64], counts: &[usize]) -> Vec<f64> {
-    let mut edges = vec![0.0];
-    edges.extend_from_slice(breaks);
-    edges.push(length);
-    let mut out = vec![0.0];
-    for p in 0..edges.len() - 1 {
-        let n = counts[p].max(1);
-        for i in 1..=n {
-            out.push((edges[p] + (edges[p + 1] - edges[p]) * i as f64 / n as f64) / length);
-        }
     }
     out
 }

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 use super::insert::{self, pieces_of, Axis, BoxRange, SweptCells};
 use super::{material, Mesh, P3};
 use crate::geometry::s1002;
-use crate::geometry::wheel::WheelSpec;
+use crate::input::wheel::WheelSpec;
 use crate::input::Checker;
 use crate::Result;
 

@@ -22,7 +22,7 @@ pub use super::tread_insert::TreadInsertSpec;
 use super::tread_insert::{arc_within, wrap_deg, BandArc};
 use super::{material, tie, tread_insert, Mesh, P3};
 use crate::geometry::s1002;
-use crate::geometry::wheel::{axle_radius_mm, WheelSpec};
+use crate::input::wheel::{axle_radius_mm, WheelSpec};
 use crate::input::Checker;
 use crate::Result;
 

@@ -3,8 +3,8 @@
 //! Krylov block with its coupling, and the random start block.
 
 use super::residual::abs_sym_lower_matvec;
-use super::workspace::Workspace;
 use crate::fem::assembly::sym_lower_matvec;
+use crate::linalg::workspace::Workspace;
 use crate::random::XorShift64;
 use crate::{Error, Result};
 use faer::linalg::matmul::matmul;

@@ -1,16 +1,16 @@
 //! Shift-invert Lanczos for `K x = w² M x` (see the module docs of [`crate::modal`]).
 
 use super::dense::{solve_dense, DENSE_BELOW_DOFS};
-pub use super::factor::sturm_count;
-use super::factor::{
-    numeric_factor, shifted, sturm_count_with, symbolic_pencil, FactorKind, ShiftInvert,
-};
 use super::memory::{release_free_heap, resident_note};
 use super::residual::FLOOR_FACTOR;
 pub use super::slice::{check_slices, MAX_SLICES};
 use super::slice::{solve_slice, Slice};
 pub use super::solution::{ModalOptions, ModalSolution, Mode};
-use super::tree_solve::TreePlan;
+pub use crate::linalg::factor::sturm_count;
+use crate::linalg::factor::{
+    numeric_factor, shifted, sturm_count_with, symbolic_pencil, FactorKind, ShiftInvert,
+};
+use crate::linalg::tree_solve::TreePlan;
 use crate::{Error, Result};
 use faer::sparse::SparseColMat;
 use std::f64::consts::PI;

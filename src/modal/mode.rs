@@ -1,6 +1,6 @@
 //! The wheel-mode record every stage after the modal solvers reads (`modes.json`): frequency,
 //! family and the paper's label (nodal circles, nodal diameters); how the solvers find the
-//! label is in docs/modes.md.
+//! label is in docs/modal.md.
 
 use serde::{Deserialize, Serialize};
 

@@ -6,7 +6,7 @@
 //! The command line only parses, prints and writes; everything here returns plain data.
 
 use crate::fem::Hex8Kind;
-use crate::geometry::wheel::WheelSpec;
+use crate::input::wheel::WheelSpec;
 use crate::mesh::volume;
 use crate::mesh::P3;
 use crate::modal::axisym::revolve::revolve_hex27;

@@ -3,11 +3,11 @@
 
 use super::block::{abs_block, m_block, m_orthogonalise_lanczos, next_block, start_block};
 use super::dense::ritz;
-use super::factor::ShiftInvert;
 use super::memory::resident_note;
 use super::residual::floor_from_products;
 use super::solution::{ModalOptions, Mode};
-use super::workspace::Workspace;
+use crate::linalg::factor::ShiftInvert;
+use crate::linalg::workspace::Workspace;
 use crate::{Error, Result};
 use faer::linalg::matmul::matmul;
 use faer::sparse::SparseColMat;

@@ -81,7 +81,7 @@ pub enum PreloadMethod {
     /// factor does not fit in memory (the paper-resolution cases).
     DynamicRelaxation,
     /// Newton's method as `implicit`, each step solved by conjugate gradients with a two-level
-    /// aggregation preconditioner ([`crate::iterative`]) instead of a Cholesky factor: memory
+    /// aggregation preconditioner ([`crate::linalg::iterative`]) instead of a Cholesky factor: memory
     /// linear in the model, for the models whose factor does not fit.
     ImplicitIterative,
 }
@@ -205,7 +205,7 @@ pub struct RollingCase {
     /// ballast vertical): there a half sleeper, held laterally only at its bottom face, tilts
     /// about the track axis as a rigid body under the off-centre wheel load, and the tilt moves
     /// the rail seat sideways (0.2 mm under the passing wheel on the demo track). With the cut
-    /// held, the tilt has to bend the sleeper (docs/run-log.md, "What `paper` case 3 showed").
+    /// held, the tilt has to bend the sleeper (data/runs/LOG.md, "What `paper` case 3 showed").
     #[serde(default)]
     pub track_centre_symmetry: bool,
     /// Static preload.

@@ -7,7 +7,7 @@
 use std::collections::BTreeMap;
 
 use crate::fem::{assemble, assemble_volume, Assembled, Constraints, Hex8Kind, MassKind};
-use crate::geometry::wheel::WheelSpec;
+use crate::input::wheel::WheelSpec;
 use crate::material::Material;
 use crate::mesh::volume::{self, BoxCondition, VolumeMesh};
 use crate::mesh::wheel::{wheel_mesh, WheelPlacement};

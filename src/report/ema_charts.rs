@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use super::chart::{write, write_heatmap, Heatmap, LineChart, Series, Stroke};
-use crate::modal::ema::stabilisation::{DiagramPole, PoleStatus};
-use crate::modal::ema::TestMode;
+use crate::testdata::ema::stabilisation::{DiagramPole, PoleStatus};
+use crate::testdata::ema::TestMode;
 use crate::Result;
 
 /// The stabilisation diagram: one marker per pole (new, stable in frequency, stable in

@@ -4,8 +4,8 @@
 use std::path::Path;
 
 use super::chart::{write, LineChart, Series, Stroke};
-use crate::modal::hammer::MeasuredMode;
 use crate::modal::mode::{ModeFamily, ModeRef};
+use crate::testdata::hammer::MeasuredMode;
 use crate::Result;
 
 /// The standard picture of a modal comparison: frequency against nodal diameters, one colour

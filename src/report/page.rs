@@ -4,8 +4,8 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
+use crate::analysis::identify::ModeRef;
 use crate::analysis::RunAnalysis;
-use crate::identify::ModeRef;
 use crate::stability::output::StabilityBrief;
 use crate::table::Table;
 

@@ -17,7 +17,7 @@ pub(super) struct Context<'a> {
     /// How to analyse.
     pub(super) report_options: &'a ReportOptions,
 }
-use crate::identify::to_markdown;
+use crate::analysis::identify::to_markdown;
 use crate::signal::{morlet_cwt, wav::write_wav, Scales};
 use crate::table::Table;
 use crate::{Error, Result};
@@ -502,22 +502,22 @@ pub(super) fn patches(page: &mut Page, ctx: &Context) -> Result<()> {
 fn hammer_of_run(
     dir: &std::path::Path,
     modes: &[crate::modal::mode::ModeRef],
-) -> Result<Option<(Vec<crate::modal::hammer::MeasuredMode>, String)>> {
-    use crate::modal::ema::{fe_comparison::compare_with_fe, uff_test};
+) -> Result<Option<(Vec<crate::testdata::hammer::MeasuredMode>, String)>> {
+    use crate::testdata::ema::{fe_comparison::compare_with_fe, uff_modes};
     let csv = dir.join("hammer.csv");
     let uff = dir.join("hammer.uff");
     if csv.exists() {
-        let measured = crate::modal::hammer::read_hammer_csv(&csv)?;
-        let table = crate::modal::hammer::compare(&measured, modes).to_markdown();
+        let measured = crate::testdata::hammer::read_hammer_csv(&csv)?;
+        let table = crate::testdata::hammer::compare(&measured, modes).to_markdown();
         Ok(Some((measured, table)))
     } else if uff.exists() {
         let name = uff.display().to_string();
         let fmax_hz = modes.iter().map(|m| m.frequency_hz).fold(0.0, f64::max);
-        let test = uff_test::test_from_uff(
-            &crate::uff::read_uff(&uff)?,
+        let test = uff_modes::test_from_uff(
+            &crate::testdata::uff::read_uff(&uff)?,
             &name,
             fmax_hz,
-            uff_test::DEFAULT_MAX_ORDER,
+            uff_modes::DEFAULT_MAX_ORDER,
         )?;
         let cmp = compare_with_fe(&test, &name, modes, None);
         Ok(Some((cmp.measured, cmp.table.to_markdown())))
@@ -581,7 +581,7 @@ const STABILITY_ROWS: usize = 12;
 
 /// The predicted unstable modes of the run's stability analysis beside the run's PSD peaks: for
 /// each unstable eigenvalue the nearest dominant peak of any direction, matched when it lies
-/// within the identification's tolerance ([`crate::identify::Tolerance`], 5 % or 25 Hz); then
+/// within the identification's tolerance ([`crate::analysis::identify::Tolerance`], 5 % or 25 Hz); then
 /// the peaks no unstable eigenvalue explains.
 pub(super) fn stability(page: &mut Page, ctx: &Context) -> Result<()> {
     let Context { runs, .. } = *ctx;
@@ -589,7 +589,7 @@ pub(super) fn stability(page: &mut Page, ctx: &Context) -> Result<()> {
         return Ok(());
     }
     page.heading("Predicted unstable modes beside the PSD peaks");
-    let tolerance = crate::identify::Tolerance::default();
+    let tolerance = crate::analysis::identify::Tolerance::default();
     for r in runs {
         let Some(st) = &r.stability else { continue };
         let _ = writeln!(
@@ -705,16 +705,16 @@ pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
             if r.histories.column(column).is_none() {
                 continue;
             }
-            let Ok(bands) = crate::growth::bands_for_modes(modes, &[(m, n)], 0.05) else {
+            let Ok(bands) = crate::analysis::growth::bands_for_modes(modes, &[(m, n)], 0.05) else {
                 continue;
             };
-            let series = crate::growth::read_column(&r.dir, column)?;
+            let series = crate::analysis::growth::read_column(&r.dir, column)?;
             let from_s = report_options
                 .from_s
                 .or_else(|| crate::analysis::lateral_onset_s(&r.dir))
                 .unwrap_or(series.start_time_s);
-            let g = crate::growth::band_growth(&series, &bands, from_s, GROWTH_WINDOW_S)?;
-            tables.push_str(&crate::growth::to_markdown(&g));
+            let g = crate::analysis::growth::band_growth(&series, &bands, from_s, GROWTH_WINDOW_S)?;
+            tables.push_str(&crate::analysis::growth::to_markdown(&g));
             tables.push('\n');
             for b in &g.bands {
                 let pts: Vec<(f64, f64)> = g

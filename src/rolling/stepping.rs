@@ -25,7 +25,7 @@ use crate::{Error, Result};
 use super::build::{RollingModel, StepLevels};
 
 /// Largest element work, relative to single rate, at which `auto` subcycles. Measured in one
-/// session on 2 cores (docs/performance.md, 2026-11-26): the `paper` mesh, planned at 0.780,
+/// session on 2 cores (data/runs/LOG.md, performance history, 2026-11-26): the `paper` mesh, planned at 0.780,
 /// stepped 13-15 % faster multi-rate (elements 25.5 to 18.7 ms, the rest of the step 11.4 to
 /// 12.6 ms); the `demo` mesh, at 0.895, was no faster: its element saving (0.99 to 0.89 ms)
 /// was eaten by the levels' bookkeeping (0.80 to 0.94 ms), which puts its break-even near

@@ -19,7 +19,7 @@ use super::operating::from_case;
 use super::rail::Track;
 use super::sweep::{run_sweep, SweepParameter, SweepSpec};
 use super::wheel::WheelModes;
-use crate::geometry::wheel::WheelSpec;
+use crate::input::wheel::WheelSpec;
 use crate::model::case::LoadedCase;
 use crate::{Error, Result};
 

@@ -12,7 +12,7 @@ use super::rail::{Direction, Track};
 use super::rail_modes::{rail_body, rail_modal_model, RailModalModel};
 use super::system::{CoupledSystem, LinearContact, ModalBody, SystemEigen};
 use super::wheel::{check_fmax, WheelDamping, WheelModes};
-use crate::geometry::wheel::WheelSpec;
+use crate::input::wheel::WheelSpec;
 use crate::kalker::Method;
 use crate::material::Material;
 use crate::model::case::LoadedCase;

@@ -333,19 +333,6 @@ pub fn read_run_sample(loaded: &LoadedCase, run_dir: &Path, time_ms: f64) -> Res
     })
 }
 
-/// The operating point of a run directory at `time_ms`; `loaded` is the run's case (friction
-/// law, speed, wheel's start position).
-pub fn from_run(
-    loaded: &LoadedCase,
-    run_dir: &Path,
-    time_ms: f64,
-    nominal_radius_m: f64,
-    material: Material,
-) -> Result<OperatingPoint> {
-    let sample = read_run_sample(loaded, run_dir, time_ms)?;
-    from_run_sample(loaded, &sample, nominal_radius_m, material)
-}
-
 /// The operating point of a run sample (see [`read_run_sample`]). A run without the contact
 /// position columns (written before they existed) takes the rigid profiles' contact point at
 /// the wheel's lateral position then (the tape circle moved by the wheel centre's lateral

@@ -37,7 +37,7 @@ use serde::{Deserialize, Serialize};
 
 use super::system::{Body, DofTag, Gyroscopic, ModalBody, ModalDof};
 use crate::geometry::s1002;
-use crate::geometry::wheel::WheelSpec;
+use crate::input::wheel::WheelSpec;
 use crate::modal::axisym::{
     self, element, AxisymMode, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions,
 };
@@ -45,7 +45,7 @@ use crate::modal::mode::ModeFamily;
 use crate::{Error, Result};
 
 /// The largest fmax the wheel model is solved to (Hz): the band in which the axisymmetric
-/// solver's labels are unique (docs/modes.md lists repeats only above 5 kHz, and the residual
+/// solver's labels are unique (docs/modal.md lists repeats only above 5 kHz, and the residual
 /// check holds to 10 kHz).
 pub const MAX_FMAX_HZ: f64 = 10_000.0;
 

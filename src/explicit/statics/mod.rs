@@ -51,9 +51,11 @@ use super::aux::RankOneStiffness;
 use super::model::Elements;
 use super::run::StopFlag;
 use super::solver::{AuxForces, Solver};
-use crate::iterative::{conjugate_gradients, BlockMatrix, PcgOptions, TwoLevel, TwoLevelOptions};
+use crate::linalg::factor::{numeric_factor, symbolic_pencil, FactorKind};
+use crate::linalg::iterative::{
+    conjugate_gradients, BlockMatrix, PcgOptions, TwoLevel, TwoLevelOptions,
+};
 use crate::mesh::P3;
-use crate::modal::factor::{numeric_factor, symbolic_pencil, FactorKind};
 use crate::{Error, Result};
 use approach::Bodies;
 use assembly::{
@@ -118,7 +120,7 @@ pub enum LinearSolver {
     #[default]
     Direct,
     /// Conjugate gradients with the two-level aggregation preconditioner
-    /// ([`crate::iterative`]): memory linear in the model, for models whose factor does not
+    /// ([`crate::linalg::iterative`]): memory linear in the model, for models whose factor does not
     /// fit. Each step is solved to its forcing term ([`forcing_term`]: between
     /// [`LINEAR_TOLERANCE`] and [`FORCING_MAX`], tighter as the residual falls faster); the
     /// converged state is the direct solver's to the Newton tolerance.

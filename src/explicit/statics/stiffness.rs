@@ -15,7 +15,7 @@
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 
 use super::dofs::ReducedDofs;
-use crate::iterative::block_matrix::transpose;
+use crate::linalg::iterative::block_matrix::transpose;
 use crate::{Error, Result};
 
 /// A 3 x 3 block (row direction, column direction).
@@ -158,14 +158,14 @@ impl Tangent {
 
     /// The pattern of the node blocks of the lower triangle by node columns (column starts,
     /// rows; the diagonal block first in each column), for
-    /// [`crate::iterative::BlockMatrix::from_lower_pattern`].
+    /// [`crate::linalg::iterative::BlockMatrix::from_lower_pattern`].
     pub(super) fn lower_pattern(&self) -> (&[usize], &[u32]) {
         (&self.block_ptr, &self.block_rows)
     }
 
     /// The lower triangle by 3 x 3 node blocks: column starts, block rows (the diagonal block
     /// first in each column, stored whole) and blocks (`[row direction][column direction]`),
-    /// for [`crate::iterative::BlockMatrix::from_lower_columns`] (the tests' second way to
+    /// for [`crate::linalg::iterative::BlockMatrix::from_lower_columns`] (the tests' second way to
     /// the block matrix).
     #[cfg(test)]
     pub(super) fn lower_blocks(&self) -> (Vec<usize>, Vec<u32>, Vec<Block>) {
@@ -243,7 +243,7 @@ impl Tangent {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::iterative::BlockMatrix;
+    use crate::linalg::iterative::BlockMatrix;
 
     /// A tangent on a banded node graph (couplings at distances 1, 7 and 50) with seeded
     /// pseudo-random values.

@@ -28,8 +28,8 @@ use faer::sparse::linalg::cholesky::simplicial;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, MatMut, Par};
 
+use crate::linalg::inertia::simplicial_negative_pivots;
 use crate::modal::block::random_vector;
-use crate::modal::inertia::simplicial_negative_pivots;
 use crate::{Error, Result};
 
 /// Symmetric K and M with one shared upper-triangle pattern.
@@ -149,11 +149,6 @@ impl Pattern {
             full_col,
             full_src,
         })
-    }
-
-    /// Number of input pairs the pattern was built from.
-    pub fn input_len(&self) -> usize {
-        self.slot.len()
     }
 }
 

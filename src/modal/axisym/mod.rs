@@ -46,7 +46,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::geometry::wheel::{axle_radius_mm, WheelSpec};
+use crate::input::wheel::{axle_radius_mm, WheelSpec};
 use crate::mesh::material as part;
 use crate::mesh::wheel::mesh_section;
 use crate::modal::mode::{ModeFamily, ModeRef};
@@ -485,16 +485,6 @@ fn rigid_motions(model: &AxisymModel, harmonic: u32) -> Vec<Vec<[f64; 3]>> {
         ],
         _ => Vec::new(),
     }
-}
-
-/// Solve one harmonic.
-pub fn solve_harmonic(
-    model: &AxisymModel,
-    harmonic: u32,
-    fmax_hz: f64,
-) -> Result<(Vec<AxisymMode>, HarmonicStats)> {
-    let structure = harmonic_structure(model, harmonic)?;
-    solve_harmonic_with(model, harmonic, fmax_hz, &structure)
 }
 
 /// Solve one harmonic on a precomputed structure (dof map, count, pattern).

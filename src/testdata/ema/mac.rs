@@ -58,13 +58,6 @@ pub fn subspace_mac(a: &[Complex<f64>], basis: &[Vec<Complex<f64>>]) -> f64 {
     captured / aa
 }
 
-/// `matrix[i][j] = MAC(rows[i], columns[j])`.
-pub fn mac_matrix(rows: &[Vec<Complex<f64>>], columns: &[Vec<Complex<f64>>]) -> Vec<Vec<f64>> {
-    rows.iter()
-        .map(|a| columns.iter().map(|b| mac(a, b)).collect())
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

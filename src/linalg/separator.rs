@@ -1,4 +1,4 @@
-//! Multilevel vertex separators for nested dissection ([`crate::modal::ordering`]).
+//! Multilevel vertex separators for nested dissection ([`crate::linalg::ordering`]).
 //!
 //! The method of multilevel graph partitioners (Karypis and Kumar, "A fast and high quality
 //! multilevel scheme for partitioning irregular graphs", SIAM J. Sci. Comput. 20, 1998; their

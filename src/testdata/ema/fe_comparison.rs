@@ -4,9 +4,9 @@
 
 use super::mac::subspace_mac;
 use super::pairing::{pair_modes, FeShape, ModePairing};
-use super::uff_test::UffTest;
-use crate::modal::hammer::{HammerComparison, MeasuredMode, ModePair};
+use super::uff_modes::UffTest;
 use crate::modal::mode::ModeRef;
+use crate::testdata::hammer::{HammerComparison, MeasuredMode, ModePair};
 
 /// The comparison of a test with FE modes.
 pub struct UffComparison {

@@ -83,24 +83,6 @@ pub fn nodes_2411(out: &mut Vec<u8>, nodes: &[Node]) {
     end(out);
 }
 
-/// Dataset 15 (single precision coordinates, 6 significant digits).
-pub fn nodes_15(out: &mut Vec<u8>, nodes: &[Node]) {
-    begin(out, "15");
-    for n in nodes {
-        line(
-            out,
-            &format!(
-                "{}{}",
-                [n.label, n.coordinate_system, n.displacement_system, n.color]
-                    .map(|v| format_int(v, 10))
-                    .concat(),
-                n.position.map(|c| format_real(c, 13, 5, 'E')).concat()
-            ),
-        );
-    }
-    end(out);
-}
-
 fn axis_line(axis: &AxisInfo) -> String {
     let label: String = axis.label.chars().take(20).collect();
     let units: String = axis.units.chars().take(20).collect();

@@ -12,8 +12,8 @@ use super::estimate::{estimate_lscf, LscfEstimate};
 use super::frf::{FrfSet, TestDof};
 use super::test_mode::{EstimationMethod, TestMode};
 use crate::mesh::P3;
-use crate::uff::dataset55::analysis_type;
-use crate::uff::UffFile;
+use crate::testdata::uff::dataset55::analysis_type;
+use crate::testdata::uff::UffFile;
 use crate::{Error, Result};
 
 /// The modes of a test and where they were measured.

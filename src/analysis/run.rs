@@ -16,13 +16,13 @@
 //! ([`crate::signal::resolution`]). When the run also has the rim-averaged column
 //! (`rim_mean_<column>`), each peak carries `PSD(rim mean) / PSD(rim point)`, summed over the
 //! peak's bin and its two neighbours, which decides the nodal diameters a peak may be given
-//! ([`crate::identify`]).
+//! ([`crate::analysis::identify`]).
 
 use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use crate::identify::{identify, Direction, ModeRef, PeakIdentification, Tolerance};
+use crate::analysis::identify::{identify, Direction, ModeRef, PeakIdentification, Tolerance};
 use crate::input::read_json;
 use crate::signal::resolution::{describe, welch_for_resolution};
 use crate::signal::{welch, PeakSearch, Psd, TimeSeries};

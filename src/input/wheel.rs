@@ -8,8 +8,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::s1002;
-use crate::input::Checker;
+use super::Checker;
+use crate::geometry::s1002;
 use crate::Result;
 
 /// Web shape in the section.

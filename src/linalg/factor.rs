@@ -1,14 +1,14 @@
 //! The shifted pencil `A = K - sigma M` and its factorisations: the symbolic analysis (the
 //! smaller factor of AMD and nested dissection), `L Lᵀ` below the spectrum or `L D Lᵀ` inside
 //! the band, the shift-invert operator `(K - sigma M)⁻¹ M` on blocks of columns, and the Sturm
-//! count from the inertia of `L D Lᵀ` ([`crate::modal::inertia`]).
+//! count from the inertia of `L D Lᵀ` ([`crate::linalg::inertia`]).
 
 use super::inertia::negative_pivots;
 pub(crate) use super::tree_solve::FactorKind;
 pub(crate) use super::tree_solve::TreePlan;
 pub(crate) use super::workspace::Workspace;
-use crate::modal::ordering::nested_dissection;
-use crate::modal::postorder::postordered;
+use crate::linalg::ordering::nested_dissection;
+use crate::linalg::postorder::postordered;
 use crate::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
@@ -19,25 +19,25 @@ use faer::sparse::SparseColMat;
 use faer::{MatMut, Par, Side};
 use rayon::prelude::*;
 
-pub(super) struct ShiftInvert<'a> {
-    pub(super) m: &'a SparseColMat<usize, f64>,
-    pub(super) symbolic: &'a SymbolicCholesky<usize>,
-    pub(super) l_values: Vec<f64>,
+pub(crate) struct ShiftInvert<'a> {
+    pub(crate) m: &'a SparseColMat<usize, f64>,
+    pub(crate) symbolic: &'a SymbolicCholesky<usize>,
+    pub(crate) l_values: Vec<f64>,
     /// `L Lᵀ` (shift below the spectrum) or `L D Lᵀ` (shift inside the band).
-    pub(super) kind: FactorKind,
+    pub(crate) kind: FactorKind,
     /// The elimination tree for the parallel solve (`None`: a simplicial factor, faer's solve).
-    pub(super) plan: Option<TreePlan<'a>>,
+    pub(crate) plan: Option<TreePlan<'a>>,
 }
 
 impl ShiftInvert<'_> {
     /// `W = (K - sigma M)⁻¹ M V` for a block of columns (column-major, `n` rows; `mv` holds
     /// `M V`; buffers from `ws`): one multi-right-hand-side solve over the elimination tree
-    /// ([`crate::modal::tree_solve`], sibling subtrees in parallel), which streams the factor
+    /// ([`crate::linalg::tree_solve`], sibling subtrees in parallel), which streams the factor
     /// once for the whole block. Without a postordered supernodal factor, the block is split
     /// into one column group per thread, each solved sequentially by faer (its parallel solve
     /// synchronises inside every supernode, which cost more than it gained: measured on the
     /// 92 k dof wheel, 2 threads); that streams the factor once per thread.
-    pub(super) fn apply_block(&self, mv: &[f64], w: &mut [f64], ws: &mut Workspace) {
+    pub(crate) fn apply_block(&self, mv: &[f64], w: &mut [f64], ws: &mut Workspace) {
         let n = self.m.nrows();
         w.copy_from_slice(mv);
         if let Some(plan) = &self.plan {
@@ -68,7 +68,7 @@ impl ShiftInvert<'_> {
 /// Symbolic Cholesky structure of `K - s M`, shared by the shift-invert factorisation and the
 /// Sturm count (same pattern for every shift). Two orderings are analysed side by side and the
 /// one with the smaller factor kept: faer's AMD, and our nested dissection
-/// ([`crate::modal::ordering`], multilevel separators), which wins on the wheel (68.8 M factor
+/// ([`crate::linalg::ordering`], multilevel separators), which wins on the wheel (68.8 M factor
 /// entries against 102.4 M at 102 k dofs, 320 M against 508 M at 294 k; measured 2026-11-26)
 /// while AMD wins on small or slender models.
 pub(crate) fn symbolic_pencil(a: &SparseColMat<usize, f64>) -> Result<SymbolicCholesky<usize>> {
@@ -107,7 +107,7 @@ pub(crate) fn symbolic_pencil(a: &SparseColMat<usize, f64>) -> Result<SymbolicCh
 /// a merge of the two sorted row lists: linear in the entries, where assembling from triplets
 /// sorts them. Columns with unsorted or repeated rows (not what faer's constructors produce)
 /// send the whole matrix down the triplet path.
-pub(super) fn shifted(
+pub(crate) fn shifted(
     k: &SparseColMat<usize, f64>,
     m: &SparseColMat<usize, f64>,
     sigma: f64,
@@ -240,7 +240,7 @@ pub(crate) fn numeric_factor(
 }
 
 /// [`sturm_count`] for `a = K - lambda_max M` with its symbolic structure already analysed.
-pub(super) fn sturm_count_with(
+pub(crate) fn sturm_count_with(
     a: &SparseColMat<usize, f64>,
     symbolic: &SymbolicCholesky<usize>,
     sigma: f64,

@@ -7,8 +7,8 @@
 
 use rustfft::num_complex::Complex;
 
-use crate::uff::dataset58::function_type;
-use crate::uff::{Abscissa, UffFile};
+use crate::testdata::uff::dataset58::function_type;
+use crate::testdata::uff::{Abscissa, UffFile};
 use crate::{Error, Result};
 
 /// A response or reference DOF: node label and direction (1/2/3 = +X/+Y/+Z, negative: reversed).

@@ -26,7 +26,7 @@ pub mod pairing;
 pub mod peak_picking;
 pub mod stabilisation;
 pub mod test_mode;
-pub mod uff_test;
+pub mod uff_modes;
 
 pub use estimate::{estimate_lscf, LscfEstimate};
 pub use frf::{FrfSet, TestDof};

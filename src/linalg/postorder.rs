@@ -7,7 +7,7 @@
 //! each row's entries up the tree built so far with path compression (Liu's algorithm).
 //! Renumbering the columns in a depth-first postorder of the tree is an equivalent ordering
 //! (the same factor entries, the same work) in which every subtree is a contiguous range of
-//! columns ending with its root. The tree-parallel solve ([`crate::modal::tree_solve`]) needs
+//! columns ending with its root. The tree-parallel solve ([`crate::linalg::tree_solve`]) needs
 //! that: its subtrees' rows are then disjoint slices of the right-hand side. Nested dissection
 //! numbers the separators after both halves but leaves its minimum-degree leaves in their own
 //! order, so it is not a postorder by itself.

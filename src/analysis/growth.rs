@@ -23,7 +23,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use crate::identify::ModeRef;
+use crate::analysis::identify::ModeRef;
 use crate::signal::{morlet_cwt, Scales, TimeSeries};
 use crate::{Error, Result};
 
@@ -98,7 +98,7 @@ pub fn bands_for_modes(
             .find(|md| {
                 md.nodal_circles == m
                     && md.nodal_diameters == n
-                    && md.family == crate::identify::ModeFamily::Axial
+                    && md.family == crate::analysis::identify::ModeFamily::Axial
             })
             .ok_or_else(|| {
                 Error::input(
@@ -308,7 +308,7 @@ fn sanitize(name: &str) -> String {
 /// Reads a column of a run's `histories.csv`.
 pub fn read_column(run_dir: &Path, column: &str) -> Result<TimeSeries> {
     let path = run_dir.join("histories.csv");
-    let column = crate::analysis::resolve_column(&path, column)?;
+    let column = crate::analysis::run::resolve_column(&path, column)?;
     TimeSeries::from_csv(&path, &column)
 }
 

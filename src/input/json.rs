@@ -1,4 +1,5 @@
-//! Reading JSON input files with errors that name the file and the field.
+//! Reading JSON input files with errors that name the file and the field (serde_path_to_error
+//! gives the full path of an unknown, missing or mistyped field).
 
 use std::path::Path;
 
@@ -51,45 +52,4 @@ pub fn read_text(path: &Path) -> Result<String> {
             Error::io(path, e)
         }
     })
-}
-
-/// Range checks that produce [`Error::Input`] naming the file and field.
-pub struct Checker<'a> {
-    /// File (or source) name used in messages.
-    pub source_name: &'a str,
-}
-
-impl Checker<'_> {
-    /// `value` must be finite and strictly positive.
-    pub fn positive(&self, field: &str, value: f64) -> Result<()> {
-        if value.is_finite() && value > 0.0 {
-            Ok(())
-        } else {
-            Err(Error::input(
-                self.source_name,
-                field,
-                format!("must be a finite number > 0, got {value}"),
-            ))
-        }
-    }
-    /// `value` must lie in `[lo, hi]`.
-    pub fn within(&self, field: &str, value: f64, lo: f64, hi: f64) -> Result<()> {
-        if value.is_finite() && value >= lo && value <= hi {
-            Ok(())
-        } else {
-            Err(Error::input(
-                self.source_name,
-                field,
-                format!("must be in [{lo}, {hi}], got {value}"),
-            ))
-        }
-    }
-    /// A custom failed condition.
-    pub fn require(&self, ok: bool, field: &str, message: impl FnOnce() -> String) -> Result<()> {
-        if ok {
-            Ok(())
-        } else {
-            Err(Error::input(self.source_name, field, message()))
-        }
-    }
 }

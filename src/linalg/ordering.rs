@@ -8,7 +8,7 @@
 //! minimum degree ordering degrades on long, ring-like bodies such as a wheel (measured on the
 //! 102 k dof wheel: see [`crate::modal::lanczos`]).
 //!
-//! Separators are multilevel ([`crate::modal::separator`]): the graph is coarsened by
+//! Separators are multilevel ([`crate::linalg::separator`]): the graph is coarsened by
 //! heavy-edge matching, a separator grown on the coarsest graph, and the cut refined level by
 //! level on the way back (the scheme of METIS's nested dissection). Leaves are ordered by
 //! minimum degree. On the 294 k dof wheel faer's supernodal factor holds 320 M entries with
@@ -134,7 +134,7 @@ fn compress(adjacency: &Graph, n: usize) -> (Vec<Vec<usize>>, Graph) {
 }
 
 /// Nested dissection of a node graph with node weights: the elimination order of its nodes.
-/// Each part is split by a multilevel vertex separator ([`crate::modal::separator`]); a
+/// Each part is split by a multilevel vertex separator ([`crate::linalg::separator`]); a
 /// disconnected part is split into its components, which need no separator.
 fn dissect_graph(graph: &Graph, weights: &[usize]) -> Vec<usize> {
     let n = graph.len();

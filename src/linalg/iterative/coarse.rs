@@ -11,7 +11,7 @@ use faer::{MatMut, Par};
 use super::aggregation::Aggregates;
 use super::block_matrix::BlockMatrix;
 use super::prolongator::Prolongator;
-use crate::modal::factor::{numeric_factor, symbolic_pencil, FactorKind, TreePlan, Workspace};
+use crate::linalg::factor::{numeric_factor, symbolic_pencil, FactorKind, TreePlan, Workspace};
 use crate::{Error, Result};
 
 /// Seconds of each part of the coarse level's set-up.
@@ -100,7 +100,7 @@ impl CoarseSpace {
     }
 
     /// `e <- A_c⁻¹ e`: over the factor's elimination tree, sibling subtrees in parallel
-    /// ([`crate::modal::factor::TreePlan`], the modal solver's solve), when the factor is
+    /// ([`crate::linalg::factor::TreePlan`], the modal solver's solve), when the factor is
     /// supernodal and postordered (the nested dissection); faer's sequential solve otherwise.
     pub fn solve(&mut self, e: &mut [f64]) {
         if let Some(plan) = TreePlan::new(&self.symbolic) {

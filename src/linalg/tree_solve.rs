@@ -578,8 +578,8 @@ impl Task<'_, '_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::modal::ordering::nested_dissection;
-    use crate::modal::postorder::postordered;
+    use crate::linalg::ordering::nested_dissection;
+    use crate::linalg::postorder::postordered;
     use crate::random::XorShift64;
     use faer::dyn_stack::{MemBuffer, MemStack};
     use faer::perm::PermRef;

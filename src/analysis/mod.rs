@@ -1,0 +1,20 @@
+//! Analysis of a run's vibration: the window after the lateral-motion onset, the PSD at a
+//! requested resolution, the dominant peaks and the wheel modes that explain them, and the
+//! growth of mode bands over time.
+//!
+//! - [`run`]: a run directory -> window -> Welch PSD -> peaks (with their rim-mean /
+//!   rim-point ratios) -> identification ([`RunAnalysis`]).
+//! - [`identify`]: spectral peaks <-> wheel modes (families by signal direction, tolerance,
+//!   nodal diameters gated by the rim ratio).
+//! - [`growth`]: wavelet-ridge amplitude and growth rate per mode band and time window.
+//!
+//! It reads run directories and mode files and never draws: `report` renders what it returns.
+
+pub mod growth;
+pub mod identify;
+pub mod run;
+
+pub use run::{
+    analyse_run, lateral_onset_s, resolve_column, rim_ratio, AnalysisOptions, AnalysisWindow,
+    RunAnalysis, DEFAULT_FMAX_HZ, DEFAULT_RESOLUTION_HZ,
+};
