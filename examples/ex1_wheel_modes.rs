@@ -3,15 +3,15 @@
 //! Reads `data/wheels/ns_intercity_920.json` (a 920 mm wheel with its half axle), solves the
 //! axisymmetric (Fourier-harmonic) model with the axle held at both ends, and prints the
 //! zero-nodal-circle axial modes, the ones that squeal. Labels are (nodal circles, nodal
-//! diameters) (docs/modes.md).
+//! diameters) (docs/modal.md).
 //!
 //!     cargo run --release --example ex1_wheel_modes
 //!
 //! The same from the command line: `squeal axisym --wheel data/wheels/ns_intercity_920.json
 //! --clamp axle-ends --fmax-hz 5000`.
 
-use squeal::geometry::wheel::WheelSpec;
-use squeal::identify::ModeFamily;
+use squeal::analysis::identify::ModeFamily;
+use squeal::input::wheel::WheelSpec;
 use squeal::modal::axisym::{solve, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions};
 
 fn main() -> squeal::Result<()> {

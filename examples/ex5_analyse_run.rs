@@ -9,8 +9,8 @@
 //!
 //!     cargo run --release --example ex5_analyse_run
 
+use squeal::analysis::growth::{band_growth, bands_for_modes, read_column};
 use squeal::analysis::{analyse_run, AnalysisOptions};
-use squeal::growth::{band_growth, bands_for_modes, read_column};
 
 fn main() -> squeal::Result<()> {
     let run = std::path::Path::new("data/runs/case4-paper");
@@ -40,10 +40,11 @@ fn main() -> squeal::Result<()> {
                 .unwrap_or_else(|| "unexplained".into())
         );
     }
-    let modes: Vec<squeal::identify::ModeRef> = squeal::input::read_json(&run.join("modes.json"))?;
+    let modes: Vec<squeal::analysis::identify::ModeRef> =
+        squeal::input::read_json(&run.join("modes.json"))?;
     let bands = bands_for_modes(&modes, &[(0, 3), (0, 4)], 0.05)?;
     let series = read_column(run, "lateral_velocity_m_per_s")?;
     let growth = band_growth(&series, &bands, 0.016, 0.002)?;
-    print!("{}", squeal::growth::to_markdown(&growth));
+    print!("{}", squeal::analysis::growth::to_markdown(&growth));
     Ok(())
 }

@@ -4,8 +4,8 @@
 
 use std::f64::consts::TAU;
 
-use squeal::geometry::wheel::WheelSpec;
-use squeal::identify::ModeFamily;
+use squeal::analysis::identify::ModeFamily;
+use squeal::input::wheel::WheelSpec;
 use squeal::modal::axisym::{
     self, AxisymModel, AxisymOptions, Material, WheelClamp, WheelModelOptions,
 };

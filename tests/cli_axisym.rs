@@ -62,7 +62,7 @@ fn writes_modes_json_and_csv() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(stdout.contains("modes below 3000 Hz in"), "{stdout}");
-    let modes: Vec<squeal::identify::ModeRef> =
+    let modes: Vec<squeal::analysis::identify::ModeRef> =
         serde_json::from_str(&std::fs::read_to_string(dir.join("modes.json")).unwrap()).unwrap();
     assert!(!modes.is_empty());
     assert!(modes.iter().all(|m| (2..=4).contains(&m.nodal_diameters)));

@@ -12,7 +12,9 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use rustfft::num_complex::Complex;
-use squeal::uff::{self, Abscissa, AxisInfo, Dof, Function, FunctionValues, Node, UffFile, Units};
+use squeal::testdata::uff::{
+    self, Abscissa, AxisInfo, Dof, Function, FunctionValues, Node, UffFile, Units,
+};
 
 fn temp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("squeal_cli_ema_{name}_{}", std::process::id()));
@@ -175,7 +177,7 @@ fn fe_modes_are_recovered_from_a_test_synthesised_from_them() {
     // Test points: the top edge y = 0.02, z = 0.03 at x = 0.1, 0.2, 0.3, 0.4 m; DOFs Y and Z.
     let labels: Vec<usize> = [0.1, 0.2, 0.3, 0.4]
         .iter()
-        .map(|&x| squeal::modal::ema::uff_test::nearest_node(&nodes, [x, 0.02, 0.03]).0)
+        .map(|&x| squeal::testdata::ema::uff_modes::nearest_node(&nodes, [x, 0.02, 0.03]).0)
         .collect();
     let dofs: Vec<(usize, i64)> = labels.iter().flat_map(|&n| [(n, 2), (n, 3)]).collect();
     // Reference: the tip node in Z.

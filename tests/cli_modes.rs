@@ -36,9 +36,9 @@ fn coarse_wheel_writes_mode_files() {
     ] {
         assert!(out.join(f).exists(), "{f} missing");
     }
-    let modes: Vec<squeal::identify::ModeRef> =
+    let modes: Vec<squeal::analysis::identify::ModeRef> =
         serde_json::from_str(&std::fs::read_to_string(out.join("modes.json")).unwrap()).unwrap();
-    use squeal::identify::ModeFamily;
+    use squeal::analysis::identify::ModeFamily;
     // free wheel: six rigid modes, then the axial (0,2) and (0,3) pairs in the band
     assert_eq!(
         modes
@@ -110,7 +110,7 @@ fn hex8_option_selects_the_element_and_defaults_to_incompatible() {
             "{}",
             String::from_utf8_lossy(&run.stderr)
         );
-        let modes: Vec<squeal::identify::ModeRef> =
+        let modes: Vec<squeal::analysis::identify::ModeRef> =
             serde_json::from_str(&std::fs::read_to_string(out.join("modes.json")).unwrap())
                 .unwrap();
         // The modal chart is written without a hammer test too.
@@ -309,7 +309,7 @@ fn sliced_band_gives_the_same_wheel_modes_as_one_shift() {
             .unwrap();
         let text = String::from_utf8_lossy(&o.stdout).to_string();
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let modes: Vec<squeal::identify::ModeRef> =
+        let modes: Vec<squeal::analysis::identify::ModeRef> =
             squeal::input::read_json(&out.join("modes.json")).unwrap();
         (modes, text)
     };
@@ -319,7 +319,7 @@ fn sliced_band_gives_the_same_wheel_modes_as_one_shift() {
     assert!(one.len() > 30, "{} modes", one.len());
     assert_eq!(one.len(), three.len());
     for (a, b) in one.iter().zip(&three) {
-        if a.family == squeal::identify::ModeFamily::Rigid {
+        if a.family == squeal::analysis::identify::ModeFamily::Rigid {
             // round-off frequencies (|f| < 1e-3 Hz): only the flag must agree
             assert_eq!(b.family, a.family);
             continue;

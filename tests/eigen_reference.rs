@@ -19,10 +19,10 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Par, Side};
+use squeal::linalg::inertia::negative_pivots;
 use squeal::modal::axisym::eigen::{
     amd_order, solve_below, EigenSettings, Pattern, PencilMatrices,
 };
-use squeal::modal::inertia::negative_pivots;
 use squeal::modal::{solve, ModalOptions};
 
 use jacobi::jacobi_eigenvalues;

@@ -9,10 +9,10 @@ use std::path::Path;
 
 use rustfft::num_complex::Complex;
 use serde_json::Value;
-use squeal::modal::ema::{
+use squeal::testdata::ema::{
     estimate_lscf, mac::mac, pairing::pair_modes, peak_picking::peak_picking, FrfSet, TestMode,
 };
-use squeal::uff::read_uff;
+use squeal::testdata::uff::read_uff;
 
 struct Truth {
     frequency_hz: Vec<f64>,

@@ -121,7 +121,7 @@ fn undamped_free_vibration_conserves_energy() {
 }
 
 fn coarse_wheel() -> Mesh {
-    let mut spec: squeal::geometry::wheel::WheelSpec =
+    let mut spec: squeal::input::wheel::WheelSpec =
         squeal::input::read_json(std::path::Path::new("data/wheels/ns_intercity_920.json"))
             .unwrap();
     spec.axle = None;

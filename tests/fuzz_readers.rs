@@ -98,13 +98,13 @@ fn fixtures(dir: &Path) -> Vec<(PathBuf, &'static str)> {
     ] {
         all.extend(fixture(name));
     }
-    let mut frf = squeal::uff::parse_uff(&fixture("frf_binary.uff"), "frf").unwrap();
+    let mut frf = squeal::testdata::uff::parse_uff(&fixture("frf_binary.uff"), "frf").unwrap();
     frf.functions.truncate(1);
-    if let squeal::uff::FunctionValues::Complex(v) = &mut frf.functions[0].values {
+    if let squeal::testdata::uff::FunctionValues::Complex(v) = &mut frf.functions[0].values {
         v.truncate(40);
     }
-    all.extend(squeal::uff::write::to_bytes(&frf, false).unwrap());
-    all.extend(squeal::uff::write::to_bytes(&frf, true).unwrap());
+    all.extend(squeal::testdata::uff::write::to_bytes(&frf, false).unwrap());
+    all.extend(squeal::testdata::uff::write::to_bytes(&frf, true).unwrap());
     let uff = dir.join("all.uff");
     std::fs::write(&uff, all).unwrap();
     let uff_binary = dir.join("pyuff_binary.uff");
@@ -137,7 +137,7 @@ fn read(path: &Path, kind: &str) {
             let _ = squeal::table::Table::read(path);
         }
         "uff" => {
-            let _ = squeal::uff::read_uff(path);
+            let _ = squeal::testdata::uff::read_uff(path);
         }
         "case" => {
             let _ = squeal::model::case::load_case(path);
@@ -146,7 +146,7 @@ fn read(path: &Path, kind: &str) {
             let _ = squeal::scenario::LoadedScenario::from_file(path);
         }
         _ => {
-            if let Ok(w) = squeal::input::read_json::<squeal::geometry::wheel::WheelSpec>(path) {
+            if let Ok(w) = squeal::input::read_json::<squeal::input::wheel::WheelSpec>(path) {
                 let _ = w.validate("fuzz");
             }
         }

@@ -1,8 +1,8 @@
 //! Hammer-test data: the loader's error paths (file, line, column), the pairing of measured and
 //! FE modes by family and indices, and the comparison chart.
-use squeal::identify::{ModeFamily, ModeRef};
-use squeal::modal::hammer::{compare, read_hammer_csv};
+use squeal::analysis::identify::{ModeFamily, ModeRef};
 use squeal::report::modal_chart::write_modal_chart;
+use squeal::testdata::hammer::{compare, read_hammer_csv};
 
 /// Directory of one test (`tag` names it), unique within this process; the test removes it.
 fn temp_dir(tag: &str) -> std::path::PathBuf {

@@ -4,8 +4,8 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use squeal::analysis::identify::{parse_required, Direction, ModeFamily, ModeRef};
 use squeal::analysis::{analyse_run, AnalysisOptions};
-use squeal::identify::{parse_required, Direction, ModeFamily, ModeRef};
 
 fn mode(f: f64, family: ModeFamily, m: u32, n: u32) -> ModeRef {
     ModeRef {
@@ -381,7 +381,7 @@ fn rim_ratio_tells_zero_four_from_one_zero_in_one_peak() {
     );
     assert_eq!(
         a.identifications[0].rim_motion,
-        Some(squeal::identify::RimMotion::Mixed)
+        Some(squeal::analysis::identify::RimMotion::Mixed)
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -459,7 +459,7 @@ fn n0_peaks_of_the_committed_case4_run_stay_n0() {
     for i in &a.identifications {
         assert_eq!(
             i.rim_motion,
-            Some(squeal::identify::RimMotion::Common),
+            Some(squeal::analysis::identify::RimMotion::Common),
             "{:?}",
             a.identifications
         );

@@ -1,12 +1,14 @@
-//! The iterative solver (`squeal::iterative`): the block product against dense arithmetic on
+//! The iterative solver (`squeal::linalg::iterative`): the block product against dense arithmetic on
 //! seeded random matrices, conjugate gradients with the two-level preconditioner against an
 //! element-by-element residual on a clamped, graded elastic beam, the preconditioner's effect
 //! against block-Jacobi-free CG, thread-count independence, and the error paths.
 
 use squeal::fem::hex8::element_matrices;
-use squeal::iterative::block_matrix::Block3;
-use squeal::iterative::pcg::{dot, Identity};
-use squeal::iterative::{conjugate_gradients, BlockMatrix, PcgOptions, TwoLevel, TwoLevelOptions};
+use squeal::linalg::iterative::block_matrix::Block3;
+use squeal::linalg::iterative::pcg::{dot, Identity};
+use squeal::linalg::iterative::{
+    conjugate_gradients, BlockMatrix, PcgOptions, TwoLevel, TwoLevelOptions,
+};
 use squeal::material::Material;
 use squeal::mesh::hex::structured;
 use squeal::random::XorShift64;

@@ -139,7 +139,7 @@ fn modes_reads_linear_tets_and_states_the_element_order() {
             "{}",
             String::from_utf8_lossy(&out.stderr)
         );
-        let modes: Vec<squeal::identify::ModeRef> = serde_json::from_str(
+        let modes: Vec<squeal::analysis::identify::ModeRef> = serde_json::from_str(
             &std::fs::read_to_string(dir.join(format!("order{order}/modes.json"))).unwrap(),
         )
         .unwrap();

@@ -1,7 +1,7 @@
 //! Mesh files read back: the VTU and Gmsh MSH 4.1 writers against our own readers (counts,
 //! coordinates, connectivity, material ids, node-set fields), and the refusal to write
 //! inverted meshes.
-use squeal::geometry::wheel::WheelSpec;
+use squeal::input::wheel::WheelSpec;
 use squeal::mesh::wheel::{wheel_mesh, WheelPlacement};
 use squeal::mesh::{gmsh, vtu, Mesh};
 

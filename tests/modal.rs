@@ -5,9 +5,9 @@ use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
 use faer::{Mat, Side};
+use squeal::analysis::identify::ModeFamily;
 use squeal::fem::hex8::ElasticMaterial;
 use squeal::fem::{assemble, Constraints, Hex8Kind, MassKind, Materials};
-use squeal::identify::ModeFamily;
 use squeal::mesh::cuboid;
 use squeal::modal::classify::{classify_shape, nodal_weights};
 use squeal::modal::{solve, ModalOptions};
@@ -384,7 +384,7 @@ fn synthetic_ring_cos3_axial_is_n3_axial() {
 fn modal_pipeline_runs_as_a_library() {
     use squeal::modal::pipeline::solve_and_classify;
     use squeal::model::modal::{wheel_model, Clamp};
-    let mut spec: squeal::geometry::wheel::WheelSpec =
+    let mut spec: squeal::input::wheel::WheelSpec =
         squeal::input::read_json(std::path::Path::new("data/wheels/ns_intercity_920.json"))
             .unwrap();
     spec.mesh.element_size_mm = 40.0;
@@ -405,7 +405,7 @@ fn modal_pipeline_runs_as_a_library() {
             .records
             .iter()
             .find(|r| {
-                r.family == squeal::identify::ModeFamily::Axial
+                r.family == squeal::analysis::identify::ModeFamily::Axial
                     && r.nodal_circles == 0
                     && r.nodal_diameters == n
             })

@@ -17,7 +17,7 @@
 use std::path::Path;
 use std::process::Command;
 
-use squeal::identify::{ModeFamily, ModeRef};
+use squeal::analysis::identify::{ModeFamily, ModeRef};
 
 fn modes(args: &[&str], out: &Path) -> Vec<ModeRef> {
     let status = Command::new(env!("CARGO_BIN_EXE_squeal"))
@@ -186,7 +186,7 @@ fn revolved_section_matches_the_harmonic_solver_within_half_a_percent() {
 ///
 /// Above 5 kHz the count is not unique (a second series of one- and two-circle axial modes,
 /// from 5.5 kHz, whose circles lie across the rim's width, which the radial path through the
-/// rim does not cross), which docs/modes.md lists.
+/// rim does not cross), which docs/modal.md lists.
 #[test]
 fn mode_labels_are_unique_below_5_khz_in_both_solvers() {
     let dir = std::env::temp_dir().join(format!("squeal_labels_{}", std::process::id()));

@@ -142,6 +142,9 @@ fn full_default_run() {
     eprintln!("dominant lateral peak: {first:?}");
     let mode = first.mode.as_ref().expect("explained");
     assert_eq!((mode.nodal_circles, mode.nodal_diameters), (0, 0));
-    assert!(first.rim_mean_over_point.expect("ratio") >= squeal::identify::COMMON_MOTION_RATIO);
+    assert!(
+        first.rim_mean_over_point.expect("ratio")
+            >= squeal::analysis::identify::COMMON_MOTION_RATIO
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -3,7 +3,7 @@
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
-use squeal::identify::{ModeFamily, ModeRef};
+use squeal::analysis::identify::{ModeFamily, ModeRef};
 use squeal::report::run_report::build_report;
 
 fn write_run(dir: &Path, lateral_amp: f64) {

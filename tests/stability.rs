@@ -191,7 +191,7 @@ fn falling_friction_oscillator_grows_at_minus_c_plus_n_slope_over_2m() {
     }
 }
 
-fn default_wheel() -> squeal::geometry::wheel::WheelSpec {
+fn default_wheel() -> squeal::input::wheel::WheelSpec {
     squeal::input::read_json(std::path::Path::new("data/wheels/ns_intercity_920.json")).unwrap()
 }
 
@@ -261,6 +261,26 @@ fn case3_operating_point_from_the_case_file() {
     )
     .unwrap();
     println!("{op:#?}");
+    // The operating point restates the case file (data/cases/case3-demo.json): 100 km/h,
+    // constant mu 0.45 (no slope), and a static load of sprung mass plus wheel under gravity.
+    let case = &loaded.case;
+    assert!((op.speed_m_per_s - case.speed_km_per_h / 3.6).abs() < 1e-12);
+    assert!((op.mu - 0.45).abs() < 1e-12 && op.friction_slope_s_per_m == 0.0);
+    let load_n = (case.sprung_mass_kg + model.wheel.mass_kg) * 9.81;
+    assert!((op.normal_force_n - load_n).abs() < 1e-6 * load_n);
+    // Kalker's exact theory was asked for the longitudinal creepage that carries the driving
+    // torque, Fx = T / r at the rolling radius, by bisection to 1e-19 in creepage
+    // (operating::longitudinal_creepage): 1e-3 of the force leaves room only for the exact
+    // solver's own discretisation. The creepage is of the order of the paper's 0.3 % (Table 3),
+    // below saturation.
+    let fx_target_n = case.torque.max_n_m / op.rolling_radius_m;
+    assert!(
+        (op.creep_force_n[0] - fx_target_n).abs() < 1e-3 * fx_target_n,
+        "Fx {} N against T/r {fx_target_n} N",
+        op.creep_force_n[0]
+    );
+    assert!(op.creepages.xi.abs() > 1e-4 && op.creepages.xi.abs() < 1e-2);
+    assert!(fx_target_n.hypot(op.creep_force_n[1]) < op.mu * op.normal_force_n);
     let (rail, _) = model.rail(op.wheel_x_m, op.contact_rail_y_m).unwrap();
     let wheel = model.wheel_body(&op).unwrap();
     let a = model.analyse(&op, &wheel, &rail).unwrap();
@@ -268,6 +288,17 @@ fn case3_operating_point_from_the_case_file() {
         "build {t_build:.2} s; point {:.3} s with {} coordinates; law {:#?}",
         a.seconds, a.coordinates, a.law
     );
+    // Every eigenvalue is a finite pair inside the band the model was built for, sorted by
+    // frequency as `analyse` promises.
+    assert!(!a.eigen.is_empty());
+    for e in &a.eigen {
+        assert!(e.frequency_hz.is_finite() && e.growth_rate_per_s.is_finite());
+        assert!(e.frequency_hz >= 0.0 && e.frequency_hz <= Settings::default().fmax_hz * 1.01);
+    }
+    assert!(a
+        .eigen
+        .windows(2)
+        .all(|w| w[0].frequency_hz <= w[1].frequency_hz));
     for e in a.eigen.iter().filter(|e| e.growth_rate_per_s > -5.0) {
         println!(
             "{:8.1} Hz  sigma {:+9.3} /s  {}",
@@ -707,7 +738,12 @@ fn demo80_run(case: &str) -> std::path::PathBuf {
 
 /// Least-squares slope of `ln ridge` against time over [from_s, to_s] (the ridge's own
 /// samples, NaN outside the cone of influence left out).
-fn ridge_growth(g: &squeal::growth::GrowthAnalysis, band: usize, from_s: f64, to_s: f64) -> f64 {
+fn ridge_growth(
+    g: &squeal::analysis::growth::GrowthAnalysis,
+    band: usize,
+    from_s: f64,
+    to_s: f64,
+) -> f64 {
     let pts: Vec<(f64, f64)> = g
         .time_s
         .iter()
@@ -738,7 +774,7 @@ fn ridge_growth(g: &squeal::growth::GrowthAnalysis, band: usize, from_s: f64, to
 #[test]
 #[ignore]
 fn stability_against_the_explicit_demo80_runs() {
-    use squeal::growth::{band_growth, read_column, Band};
+    use squeal::analysis::growth::{band_growth, read_column, Band};
     use squeal::stability::model::{Settings, StabilityModel};
     use squeal::stability::operating::from_case;
     let eta = 0.0043;

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use rustfft::num_complex::Complex;
 use serde_json::Value;
-use squeal::uff::{
+use squeal::testdata::uff::{
     self, Abscissa, AxisInfo, Dof, Function, FunctionValues, NodalData, NodalValues, Node,
     OrdinatePrecision, UffFile, Units,
 };

@@ -5,7 +5,7 @@ use std::f64::consts::TAU;
 
 use squeal::geometry::curve2d::polygon_properties;
 use squeal::geometry::s1002;
-use squeal::geometry::wheel::{body_outline_mm, WebShape, WheelSpec};
+use squeal::input::wheel::{body_outline_mm, WebShape, WheelSpec};
 use squeal::mesh::quality::dilatational_wave_speed;
 use squeal::mesh::wheel::{
     band_angles, wheel_mesh, FineStripSpec, RunningArcSpec, TreadBandSpec, WheelPlacement,
