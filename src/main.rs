@@ -24,11 +24,11 @@ enum Command {
     Report(cli::report::ReportArgs),
     /// Standard profiles (S1002 wheel, 54E1 rail) as point tables.
     Profile(cli::profile::ProfileArgs),
-    /// Welch power spectral density and dominant peaks of a CSV column.
+    /// Welch power spectral density and dominant peaks of a column of a run or CSV file.
     Psd(cli::signal::PsdArgs),
-    /// Morlet wavelet power (time x frequency) of a CSV column, with the cone of influence.
+    /// Morlet wavelet power (time x frequency) of a column, with the cone of influence.
     Cwt(cli::signal::CwtArgs),
-    /// A CSV column as a mono 16-bit WAV file (resampled, peak at 0.9 full scale).
+    /// A column as a mono 16-bit WAV file (resampled, peak at 0.9 full scale).
     Wav(cli::signal::WavArgs),
     /// Kalker's rolling contact theory: Hertz, creep forces, force-prescribed creepages.
     Kalker(cli::kalker::KalkerArgs),
@@ -60,11 +60,34 @@ fn negative_numbers_as_values(cmd: clap::Command) -> clap::Command {
     .mut_subcommands(negative_numbers_as_values)
 }
 
+/// A closed pipe ends the program quietly, as it ends `cat` or `grep` (`squeal profile s1002
+/// --csv - | head`): Rust ignores SIGPIPE, so `println!` would panic on the closed stdout
+/// instead. Restoring the default action needs the C library's `signal` (POSIX.1).
+#[cfg(unix)]
+fn quiet_on_closed_pipe() {
+    extern "C" {
+        fn signal(signum: i32, handler: usize) -> usize;
+    }
+    const SIGPIPE: i32 = 13; // POSIX, on Linux and the BSDs
+    const SIG_DFL: usize = 0;
+    // SAFETY: resetting a signal to its default action, before any other thread exists.
+    unsafe {
+        signal(SIGPIPE, SIG_DFL);
+    }
+}
+
+#[cfg(not(unix))]
+fn quiet_on_closed_pipe() {}
+
 fn main() {
+    quiet_on_closed_pipe();
+    cli::grammar::warn_deprecated(&std::env::args_os().collect::<Vec<_>>());
     let matches = negative_numbers_as_values(Cli::command()).get_matches();
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     let result: squeal::Result<()> = match cli.command {
-        None => cli::default_run::run(std::path::Path::new("reports/default")),
+        None => cli::default_run::run(
+            &std::path::Path::new(cli::grammar::REPORTS_ROOT).join("default"),
+        ),
         Some(Command::Mesh(args)) => cli::mesh::run(args),
         Some(Command::Profile(args)) => cli::profile::run(args),
         Some(Command::Identify(args)) => cli::identify::run_identify(args),

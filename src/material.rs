@@ -39,19 +39,19 @@ impl Material {
 
     /// An elastic body for contact theory, where only E and nu matter (the density is steel's),
     /// checked so that every formula downstream is finite: E > 0, 0 <= nu < 0.5; the errors
-    /// name the command-line options `--e` and `--nu`.
+    /// name the command-line options `--youngs-modulus-pa` and `--poisson-ratio`.
     pub fn validated(youngs_modulus_pa: f64, poisson_ratio: f64, source: &str) -> Result<Material> {
         if !(youngs_modulus_pa.is_finite() && youngs_modulus_pa > 0.0) {
             return Err(Error::input(
                 source,
-                "--e",
+                "--youngs-modulus-pa",
                 format!("Young's modulus must be > 0 Pa, got {youngs_modulus_pa}"),
             ));
         }
         if !(poisson_ratio.is_finite() && (0.0..0.5).contains(&poisson_ratio)) {
             return Err(Error::input(
                 source,
-                "--nu",
+                "--poisson-ratio",
                 format!("Poisson's ratio must be in [0, 0.5), got {poisson_ratio}"),
             ));
         }
@@ -151,7 +151,7 @@ mod tests {
         assert_eq!(d[3][3], s.mu_pa());
         assert_eq!(d[0][0], s.lambda_pa() + 2.0 * s.mu_pa());
         let e = Material::validated(210e9, 0.5, "x").unwrap_err();
-        assert!(e.to_string().contains("--nu"), "{e}");
+        assert!(e.to_string().contains("--poisson-ratio"), "{e}");
         let bad = Material {
             density_kg_per_m3: -1.0,
             ..s

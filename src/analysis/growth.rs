@@ -28,7 +28,35 @@ use crate::signal::{morlet_cwt, Scales, TimeSeries};
 use crate::{Error, Result};
 
 /// Wavelet voices per octave over the bands.
-pub const VOICES_PER_OCTAVE: usize = 16;
+pub const VOICES_PER_OCTAVE: usize = crate::signal::wavelet::DEFAULT_VOICES_PER_OCTAVE;
+
+/// What a growth analysis follows when nothing else is asked: the (0,3) and (0,4) axial bands
+/// that Yang & Li (2019) find in squeal, on the n >= 1 part of the rim's lateral vibration (the
+/// rim point less the rim mean: the hub's lateral motion cannot drive it), each band +- 5 %
+/// (the identification's tolerance), rates fitted over 4 ms windows (several periods of a
+/// 1 kHz mode, short beside the 10-20 ms over which a squeal mode grows).
+#[derive(Clone, Debug, Serialize)]
+pub struct GrowthOptions {
+    /// Column of histories.csv.
+    pub column: String,
+    /// The modes whose bands to follow, (nodal circles, nodal diameters).
+    pub modes: Vec<(u32, u32)>,
+    /// Half width of each band, relative to the mode's frequency.
+    pub half_width: f64,
+    /// Window of each growth-rate fit (s).
+    pub window_s: f64,
+}
+
+impl Default for GrowthOptions {
+    fn default() -> Self {
+        GrowthOptions {
+            column: "rim_point_minus_mean_lateral_velocity_m_per_s".into(),
+            modes: vec![(0, 3), (0, 4)],
+            half_width: 0.05,
+            window_s: 0.004,
+        }
+    }
+}
 
 /// One frequency band to follow.
 #[derive(Clone, Debug, Serialize)]

@@ -61,7 +61,7 @@ impl Default for AnalysisOptions {
         AnalysisOptions {
             signal: "lateral".into(),
             peaks: 3,
-            band_hz: (50.0, 10_000.0),
+            band_hz: (50.0, f64::INFINITY),
             nperseg: None,
             resolution_hz: DEFAULT_RESOLUTION_HZ,
             from_s: None,

@@ -1,7 +1,7 @@
 //! `squeal axisym`: wheel modes by the axisymmetric (Fourier-harmonic) solver.
 //!
 //! `squeal axisym --wheel data/wheels/ns_intercity_920.json --harmonics 0..12 --fmax-hz 10000
-//! --out out/axisym` writes `modes.json` (ModeRef-compatible entries plus harmonic, residual,
+//! --out out/axisym` (default folder: out/axisym/<wheel name>) writes `modes.json` (ModeRef-compatible entries plus harmonic, residual,
 //! multiplicity, energy shares), `modes.csv` and `harmonics.json` (per-harmonic statistics),
 //! and prints the mode table and the solve time.
 
@@ -13,6 +13,8 @@ use squeal::input::wheel::WheelSpec;
 use squeal::modal::axisym::{self, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions};
 use squeal::output::{Commit, StagedDir};
 use squeal::{Error, Result};
+
+use super::grammar::{input_name, out_dir};
 
 /// Largest harmonic accepted on the command line (a 920 mm wheel has no mode below 10 kHz
 /// beyond n ~ 12; 200 keeps typing errors from starting huge runs).
@@ -36,10 +38,10 @@ pub struct AxisymArgs {
     #[arg(long)]
     pub wheel: PathBuf,
     /// Harmonics (nodal diameters) to solve: `A..B` (inclusive) or a single `N`.
-    #[arg(long, default_value = "0..12")]
+    #[arg(long, default_value_t = default_harmonics())]
     pub harmonics: String,
     /// Upper frequency (Hz): all modes below it.
-    #[arg(long, default_value_t = 10_000.0)]
+    #[arg(long, default_value_t = AxisymOptions::default().fmax_hz)]
     pub fmax_hz: f64,
     /// Section element size (mm), overriding the wheel file's mesh.element_size_mm.
     #[arg(long)]
@@ -48,16 +50,38 @@ pub struct AxisymArgs {
     #[arg(long)]
     pub without_axle: bool,
     /// Clamped lines.
-    #[arg(long, value_enum, default_value = "none")]
+    #[arg(long, value_enum, default_value_t = ClampArg::of(WheelModelOptions::default().clamp))]
     pub clamp: ClampArg,
-    /// Output folder for modes.json, modes.csv, harmonics.json.
+    /// Output folder for modes.json, modes.csv, harmonics.json and the modal chart. Default:
+    /// out/axisym/<wheel name>.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Hammer test drawn solid beside the computed modes on the modal chart (needs --out): a
-    /// CSV of labelled modes (data/hammer/), or a universal file (.uff/.unv) whose modes (LSCF on
-    /// its FRFs, or its mode shapes) are paired with the FE modes by frequency.
-    #[arg(long, requires = "out")]
+    /// Hammer test drawn solid beside the computed modes on the modal chart: a CSV of
+    /// labelled modes (data/hammer/), or a universal file (.uff/.unv) whose modes (LSCF on its
+    /// FRFs, or its mode shapes) are paired with the FE modes by frequency.
+    #[arg(long)]
     pub hammer: Option<PathBuf>,
+}
+
+/// The library's default harmonics as `A..B`.
+fn default_harmonics() -> String {
+    let h = AxisymOptions::default().harmonics;
+    match (h.first(), h.last()) {
+        (Some(a), Some(b)) if a != b => format!("{a}..{b}"),
+        (Some(a), _) => a.to_string(),
+        _ => "0".to_string(),
+    }
+}
+
+impl ClampArg {
+    /// The command-line name of a clamp.
+    fn of(clamp: WheelClamp) -> ClampArg {
+        match clamp {
+            WheelClamp::None => ClampArg::None,
+            WheelClamp::HubBore => ClampArg::HubBore,
+            WheelClamp::AxleEnds => ClampArg::AxleEnds,
+        }
+    }
 }
 
 /// Parse `A..B` (inclusive) or `N`.
@@ -198,10 +222,9 @@ pub fn run(args: AxisymArgs) -> Result<()> {
         args.fmax_hz,
         res.seconds
     );
-    if let Some(dir) = &args.out {
-        write_outputs(dir, &res, args.hammer.as_deref(), args.fmax_hz)?;
-        println!("wrote {}", dir.display());
-    }
+    let dir = out_dir(args.out.clone(), "axisym", &input_name(&args.wheel));
+    write_outputs(&dir, &res, args.hammer.as_deref(), args.fmax_hz)?;
+    println!("wrote {}", dir.display());
     Ok(())
 }
 

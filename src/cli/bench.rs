@@ -33,15 +33,15 @@ pub enum BenchWhat {
 #[derive(Args, Debug)]
 pub struct PreloadBenchArgs {
     /// Rolling case file (e.g. data/cases/case3-demo.json).
-    #[arg(long)]
-    pub scenario: std::path::PathBuf,
+    #[arg(long, alias = "scenario")]
+    pub case: std::path::PathBuf,
     /// The method (default: the case's `preload.method`).
     #[arg(long, value_enum)]
     pub preload: Option<super::simulate::PreloadChoice>,
 }
 
 fn preload(a: PreloadBenchArgs) -> Result<()> {
-    let loaded = squeal::rolling::load_case(&a.scenario)?;
+    let loaded = squeal::rolling::load_case(&a.case)?;
     let method = a
         .preload
         .map(super::simulate::PreloadChoice::method)
@@ -66,8 +66,8 @@ fn preload(a: PreloadBenchArgs) -> Result<()> {
 #[derive(Args, Debug)]
 pub struct RollingBenchArgs {
     /// Rolling case file (e.g. data/cases/case3-demo.json).
-    #[arg(long)]
-    pub scenario: std::path::PathBuf,
+    #[arg(long, alias = "scenario")]
+    pub case: std::path::PathBuf,
     /// Steps timed per part, 1 to 1000000.
     #[arg(long, default_value_t = 200)]
     pub steps: usize,
@@ -104,7 +104,7 @@ fn by_level<T>(values: &[T], show: impl Fn(&T) -> String) -> String {
 }
 
 fn rolling(a: RollingBenchArgs) -> Result<()> {
-    let loaded = squeal::rolling::load_case(&a.scenario)?;
+    let loaded = squeal::rolling::load_case(&a.case)?;
     let search = match a.contact_search {
         SearchArg::Region => squeal::contact::ContactSearch::Region,
         SearchArg::Full => squeal::contact::ContactSearch::Full,
@@ -223,8 +223,8 @@ pub struct ModalBenchArgs {
     #[arg(long)]
     pub mtx: std::path::PathBuf,
     /// Upper band edge (Hz).
-    #[arg(long, default_value_t = 10_000.0)]
-    pub fmax: f64,
+    #[arg(long = "fmax-hz", alias = "fmax", default_value_t = squeal::modal::ModalOptions::default().fmax_hz)]
+    pub fmax_hz: f64,
     /// Block size of the block Lanczos (columns per operator application), 1 to 64.
     #[arg(long, default_value_t = squeal::modal::ModalOptions::default().block_size)]
     pub block_size: usize,
@@ -240,11 +240,11 @@ pub struct ModalBenchArgs {
 fn modal(a: ModalBenchArgs) -> Result<()> {
     use squeal::fem::assembly::read_matrix_market;
     use squeal::modal::{solve, ModalOptions};
-    if !(a.fmax.is_finite() && a.fmax > 0.0 && a.fmax <= 1e6) {
+    if !(a.fmax_hz.is_finite() && a.fmax_hz > 0.0 && a.fmax_hz <= 1e6) {
         return Err(squeal::Error::input(
             "command line",
-            "--fmax",
-            format!("{} is outside the allowed range (0, 1e6] Hz", a.fmax),
+            "--fmax-hz",
+            format!("{} is outside the allowed range (0, 1e6] Hz", a.fmax_hz),
         ));
     }
     if !(1..=64).contains(&a.block_size) {
@@ -256,13 +256,13 @@ fn modal(a: ModalBenchArgs) -> Result<()> {
     }
     squeal::modal::lanczos::check_slices(a.slices)?;
     if let Some(shift) = a.shift_hz {
-        if !(shift.is_finite() && shift > 0.0 && shift <= a.fmax) {
+        if !(shift.is_finite() && shift > 0.0 && shift <= a.fmax_hz) {
             return Err(squeal::Error::input(
                 "command line",
                 "--shift-hz",
                 format!(
                     "{shift} is outside the allowed range (0, fmax = {}] Hz",
-                    a.fmax
+                    a.fmax_hz
                 ),
             ));
         }
@@ -289,7 +289,7 @@ fn modal(a: ModalBenchArgs) -> Result<()> {
         &k,
         &m,
         &ModalOptions {
-            fmax_hz: a.fmax,
+            fmax_hz: a.fmax_hz,
             rigid_below_hz: 1.0,
             block_size: a.block_size,
             slices: a.slices,

@@ -15,6 +15,8 @@ use squeal::testdata::ema::{estimate_lscf, FrfSet, TestDof, TestMode};
 use squeal::testdata::uff::{self, NodalData, NodalValues, UffFile};
 use squeal::{Error, Result};
 
+use super::grammar::{input_name, out_dir};
+
 /// Estimator.
 #[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
 pub enum EmaMethod {
@@ -43,9 +45,9 @@ pub struct EmaArgs {
     /// Highest LSCF model order (even, 2..=200); orders 2, 4, ... up to it are computed.
     #[arg(long, default_value_t = squeal::testdata::ema::uff_modes::DEFAULT_MAX_ORDER as i64, allow_negative_numbers = true)]
     pub max_order: i64,
-    /// Output directory.
-    #[arg(long, default_value = "reports/ema")]
-    pub out: PathBuf,
+    /// Output folder (replaced whole). Default: out/ema/<universal file name>.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
 }
 
 /// Runs `squeal ema`.
@@ -85,7 +87,8 @@ pub fn run(args: EmaArgs) -> Result<()> {
         set.reference.direction,
         set.frequency_hz.len()
     );
-    let stage = StagedDir::new(&args.out)?;
+    let out = out_dir(args.out.clone(), "ema", &input_name(&args.uff));
+    let stage = StagedDir::new(&out)?;
     let dir = stage.path();
     let modes = match args.method {
         EmaMethod::PeakPicking => peak_picking(&set, fmin, fmax)?,

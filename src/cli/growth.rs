@@ -5,10 +5,12 @@ use std::path::PathBuf;
 
 use clap::Args;
 use squeal::analysis::growth::{
-    band_growth, bands_for_modes, read_column, ridges_csv, to_markdown,
+    band_growth, bands_for_modes, read_column, ridges_csv, to_markdown, GrowthOptions,
 };
 use squeal::analysis::identify::{parse_mode_label, ModeRef};
 use squeal::output::{Commit, StagedDir};
+
+use super::grammar::{input_name, out_dir};
 use squeal::{Error, Result};
 
 /// Arguments of `squeal growth`.
@@ -16,24 +18,33 @@ use squeal::{Error, Result};
 pub struct GrowthArgs {
     /// Run directory with histories.csv and modes.json.
     pub run_dir: PathBuf,
-    /// Column of histories.csv (default: the n >= 1 part of the rim's lateral vibration).
-    #[arg(long, default_value = "rim_point_minus_mean_lateral_velocity_m_per_s")]
-    pub signal: String,
+    /// Column of histories.csv.
+    #[arg(long, alias = "signal", default_value_t = GrowthOptions::default().column)]
+    pub column: String,
     /// Axial mode whose band to follow, "nodal circles,nodal diameters" (repeatable).
-    #[arg(long = "mode", default_values_t = ["0,3".to_string(), "0,4".to_string()])]
+    #[arg(long = "mode", default_values_t = default_mode_labels())]
     pub modes: Vec<String>,
     /// Half width of each band, relative to the mode's frequency.
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = GrowthOptions::default().half_width)]
     pub half_width: f64,
     /// Start (ms); default: the lateral-motion onset from run.json, else the first sample.
     #[arg(long, allow_negative_numbers = true)]
     pub from_ms: Option<f64>,
     /// Window over which each growth rate is fitted (ms).
-    #[arg(long, default_value_t = 4.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = GrowthOptions::default().window_s * 1e3, allow_negative_numbers = true)]
     pub window_ms: f64,
-    /// Write growth.md, growth.json and ridges.csv here (default: the run directory).
+    /// Write growth.md, growth.json and ridges.csv here (default: out/growth/<run name>).
     #[arg(long)]
     pub out: Option<PathBuf>,
+}
+
+/// The library's default modes as command-line labels ("0,3").
+fn default_mode_labels() -> Vec<String> {
+    GrowthOptions::default()
+        .modes
+        .iter()
+        .map(|(m, n)| format!("{m},{n}"))
+        .collect()
 }
 
 /// Run `squeal growth`.
@@ -67,7 +78,7 @@ pub fn run(args: GrowthArgs) -> Result<()> {
     }
     let modes: Vec<ModeRef> = squeal::input::read_json(&modes_path)?;
     let bands = bands_for_modes(&modes, &labels, args.half_width)?;
-    let series = read_column(&args.run_dir, &args.signal)?;
+    let series = read_column(&args.run_dir, &args.column)?;
     let from_s = match args.from_ms {
         Some(t) => t * 1e-3,
         None => squeal::analysis::lateral_onset_s(&args.run_dir).unwrap_or(series.start_time_s),
@@ -75,7 +86,7 @@ pub fn run(args: GrowthArgs) -> Result<()> {
     let g = band_growth(&series, &bands, from_s, args.window_ms * 1e-3)?;
     let md = to_markdown(&g);
     println!("{md}");
-    let out = args.out.unwrap_or_else(|| args.run_dir.clone());
+    let out = out_dir(args.out, "growth", &input_name(&args.run_dir));
     // Written beside the output folder and moved into it when complete.
     let stage = StagedDir::new(&out)?;
     let dir = stage.path().to_path_buf();

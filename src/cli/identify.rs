@@ -9,32 +9,62 @@ use squeal::analysis::identify::{
 };
 use squeal::analysis::{analyse_run, AnalysisOptions};
 use squeal::output::{Commit, StagedDir};
+
+use super::grammar::{input_name, note, out_dir};
 use squeal::{Error, Result};
+
+/// The direction of a run's wheel signal.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum DirectionArg {
+    /// Lateral (y, along the wheel axis).
+    Lateral,
+    /// Vertical (z).
+    Vertical,
+    /// Longitudinal (x, along the track).
+    Longitudinal,
+}
+
+impl DirectionArg {
+    fn word(self) -> &'static str {
+        match self {
+            DirectionArg::Lateral => "lateral",
+            DirectionArg::Vertical => "vertical",
+            DirectionArg::Longitudinal => "longitudinal",
+        }
+    }
+}
 
 /// Options shared by both commands.
 #[derive(Args, Debug)]
 pub struct CommonArgs {
     /// Run directory with histories.csv and modes.json.
     pub run_dir: PathBuf,
-    /// Signal: lateral, vertical, longitudinal, or an exact column of histories.csv.
-    #[arg(long, default_value = "lateral")]
-    pub signal: String,
+    /// Direction of the wheel signal: the one column of histories.csv whose name starts with
+    /// it. Default: lateral.
+    #[arg(long, value_enum, conflicts_with = "column")]
+    pub direction: Option<DirectionArg>,
+    /// An exact column of histories.csv, instead of a direction.
+    #[arg(long)]
+    pub column: Option<String>,
+    /// Deprecated: --direction or --column.
+    #[arg(long, hide = true, conflicts_with_all = ["direction", "column"])]
+    pub signal: Option<String>,
     /// Number of dominant peaks.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = AnalysisOptions::default().peaks)]
     pub peaks: usize,
     /// Lowest peak frequency (Hz).
-    #[arg(long, default_value_t = 50.0)]
-    pub fmin: f64,
+    #[arg(long = "fmin-hz", alias = "fmin", default_value_t = AnalysisOptions::default().band_hz.0)]
+    pub fmin_hz: f64,
     /// Highest peak frequency (Hz); must not exceed the Nyquist frequency of the history.
-    /// Default: 10 kHz or the Nyquist frequency, whichever is lower.
-    #[arg(long)]
-    pub fmax: Option<f64>,
+    /// Default: the library's upper band edge or the Nyquist frequency, whichever is lower.
+    #[arg(long = "fmax-hz", alias = "fmax")]
+    pub fmax_hz: Option<f64>,
     /// Welch segment length (default: chosen for --resolution-hz: one zero-padded segment of
     /// a short window, averaged segments of a long one).
     #[arg(long)]
     pub nperseg: Option<usize>,
     /// Largest PSD bin spacing (Hz); short windows are zero-padded to reach it.
-    #[arg(long, default_value_t = squeal::analysis::DEFAULT_RESOLUTION_HZ, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = AnalysisOptions::default().resolution_hz, allow_negative_numbers = true)]
     pub resolution_hz: f64,
     /// Start of the analysed window (ms). Default: the lateral-motion onset of a rolling run
     /// (from run.json), else the first sample.
@@ -44,10 +74,10 @@ pub struct CommonArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub to_ms: Option<f64>,
     /// Relative matching tolerance.
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = Tolerance::default().relative)]
     pub tolerance: f64,
     /// Absolute matching tolerance floor (Hz).
-    #[arg(long, default_value_t = 25.0)]
+    #[arg(long, default_value_t = Tolerance::default().absolute_hz)]
     pub tolerance_hz: f64,
     /// Modes file (default RUN_DIR/modes.json).
     #[arg(long)]
@@ -77,10 +107,27 @@ impl CommonArgs {
                 "must be at least 1",
             ));
         }
+        let signal = match (&self.direction, &self.column, &self.signal) {
+            (Some(d), _, _) => d.word().to_string(),
+            (None, Some(c), _) => c.clone(),
+            (None, None, Some(old)) => {
+                let is_direction = ["lateral", "vertical", "longitudinal"].contains(&old.as_str());
+                note(
+                    "--signal",
+                    if is_direction {
+                        "--direction"
+                    } else {
+                        "--column"
+                    },
+                );
+                old.clone()
+            }
+            (None, None, None) => AnalysisOptions::default().signal,
+        };
         Ok(AnalysisOptions {
-            signal: self.signal.clone(),
+            signal,
             peaks: self.peaks,
-            band_hz: (self.fmin, self.fmax.unwrap_or(f64::INFINITY)),
+            band_hz: (self.fmin_hz, self.fmax_hz.unwrap_or(f64::INFINITY)),
             nperseg: self.nperseg,
             resolution_hz: self.resolution_hz,
             from_s: self.from_ms.map(|t| t * 1e-3),
@@ -100,7 +147,7 @@ impl CommonArgs {
 pub struct IdentifyArgs {
     #[command(flatten)]
     pub common: CommonArgs,
-    /// Write identification.md, .csv and .json here (default: the run directory).
+    /// Write identification.md, .csv and .json here (default: out/identify/<run name>).
     #[arg(long)]
     pub out: Option<PathBuf>,
 }
@@ -116,7 +163,7 @@ pub fn run_identify(args: IdentifyArgs) -> Result<()> {
         options.tolerance,
     );
     println!("{md}");
-    let out = args.out.unwrap_or_else(|| args.common.run_dir.clone());
+    let out = out_dir(args.out, "identify", &input_name(&args.common.run_dir));
     // Written beside the output folder and moved into it when complete.
     let stage = StagedDir::new(&out)?;
     let dir = stage.path().to_path_buf();

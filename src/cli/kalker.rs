@@ -1,10 +1,11 @@
 //! `squeal kalker`: Hertz, creepage-prescribed and force-prescribed rolling contact.
 //!
-//! `squeal kalker --fn 120e3 --fx 40e3 --fy 10e3 --mu 0.45` (no subcommand) is the
-//! force-prescribed mode, same as `squeal kalker solve ...`.
+//! `squeal kalker --normal-force-n 120e3 ...` without a subcommand is the previous release's
+//! spelling of `squeal kalker solve ...`: still accepted, with a note.
 
 use clap::{Args, Subcommand, ValueEnum};
 use serde_json::json;
+use squeal::kalker::rolling::{DEFAULT_GRID, DEFAULT_RAIL_CROWN_RADIUS_M, DEFAULT_WHEEL_RADIUS_M};
 use squeal::kalker::{
     solve_force_prescribed, Creepages, HertzContact, Material, Method, RollingContactSolution,
     RollingSolver,
@@ -12,6 +13,8 @@ use squeal::kalker::{
 use squeal::output::{Commit, StagedDir};
 use squeal::{Error, Result};
 use std::path::PathBuf;
+
+use super::grammar::{input_name, note, out_dir};
 
 /// Arguments of `squeal kalker`.
 #[derive(Args, Debug)]
@@ -48,61 +51,62 @@ struct CompareArgs {
     /// points: [{x_m, y_m, pressure_pa, slip}]}.
     #[arg(long)]
     snapshot: PathBuf,
-    /// Wheel tape-circle lateral position for S1002-on-54E1 curvatures (default: flat tread
-    /// of --wheel-radius on a crown of --rail-radius).
-    #[arg(long, allow_hyphen_values = true)]
-    wheel_y: Option<f64>,
+    /// Wheel tape-circle lateral position (m) for S1002-on-54E1 curvatures (default: flat
+    /// tread of --wheel-radius-m on a crown of --rail-radius-m).
+    #[arg(long = "wheel-y-m", alias = "wheel-y", allow_hyphen_values = true)]
+    wheel_y_m: Option<f64>,
     /// Wheel radius (m).
-    #[arg(long, default_value_t = 0.46, allow_hyphen_values = true)]
-    wheel_radius: f64,
+    #[arg(long = "wheel-radius-m", alias = "wheel-radius", default_value_t = DEFAULT_WHEEL_RADIUS_M, allow_hyphen_values = true)]
+    wheel_radius_m: f64,
     /// Rail crown radius (m).
-    #[arg(long, default_value_t = 0.3, allow_hyphen_values = true)]
-    rail_radius: f64,
+    #[arg(long = "rail-radius-m", alias = "rail-radius", default_value_t = DEFAULT_RAIL_CROWN_RADIUS_M, allow_hyphen_values = true)]
+    rail_radius_m: f64,
     /// Spin creepage phi (1/m) of the FE contact, prescribed with its forces. Default: the
-    /// snapshot's `normal_lateral_fraction` (sine of the contact angle) over --wheel-radius,
+    /// snapshot's `normal_lateral_fraction` (sine of the contact angle) over --wheel-radius-m,
     /// or 0 when the snapshot has none.
-    #[arg(long, allow_hyphen_values = true)]
-    phi: Option<f64>,
+    #[arg(long = "phi-per-m", alias = "phi", allow_hyphen_values = true)]
+    phi_per_m: Option<f64>,
     /// Solve Kalker's exact problem on the undeformed gap of the S1002 and 54E1 profiles at
-    /// --wheel-y (non-Hertzian, as CONTACT does) instead of a Hertz ellipse (needs --wheel-y
-    /// and the exact method).
+    /// --wheel-y-m (non-Hertzian, as CONTACT does) instead of a Hertz ellipse (needs
+    /// --wheel-y-m and the exact method).
     #[arg(long)]
     profile_gap: bool,
     /// Theory.
-    #[arg(long, value_enum, default_value_t = MethodArg::Exact)]
+    #[arg(long, value_enum, default_value_t = MethodArg::from(Method::default()))]
     method: MethodArg,
     /// Elements per axis.
-    #[arg(long, default_value_t = 60)]
+    #[arg(long, default_value_t = DEFAULT_GRID)]
     grid: usize,
-    /// Output directory (comparison.json, patch_fe.png/svg, patch_kalker.png/svg).
+    /// Output folder (comparison.json, patch_fe.png/svg, patch_kalker.png/svg). Default:
+    /// out/kalker/compare/<snapshot name>.
     #[arg(long)]
-    out: PathBuf,
+    out: Option<PathBuf>,
 }
 
 /// Contact geometry, load and material shared by all modes.
 #[derive(Args, Debug, Clone)]
 struct ContactArgs {
     /// Normal force Fn (N).
-    #[arg(long = "fn", value_name = "N", allow_hyphen_values = true)]
+    #[arg(long = "normal-force-n", alias = "fn", value_name = "N", allow_hyphen_values = true)]
     normal_force_n: Option<f64>,
     /// Wheel rolling radius (m); flat tread assumed.
-    #[arg(long, default_value_t = 0.46, allow_hyphen_values = true)]
-    wheel_radius: f64,
+    #[arg(long = "wheel-radius-m", alias = "wheel-radius", default_value_t = DEFAULT_WHEEL_RADIUS_M, allow_hyphen_values = true)]
+    wheel_radius_m: f64,
     /// Rail crown radius (m).
-    #[arg(long, default_value_t = 0.3, allow_hyphen_values = true)]
-    rail_radius: f64,
+    #[arg(long = "rail-radius-m", alias = "rail-radius", default_value_t = DEFAULT_RAIL_CROWN_RADIUS_M, allow_hyphen_values = true)]
+    rail_radius_m: f64,
     /// Lateral position (m) of the wheel's tape circle relative to the rail centre (crown top of
     /// the upright 54E1): the S1002 on 54E1 (1:40) contact point and its curvatures are used
-    /// instead of --wheel-radius/--rail-radius (-0.0025 is a centred wheelset: tape circles
-    /// 1500 mm apart on 1435 mm gauge).
-    #[arg(long, allow_hyphen_values = true)]
-    wheel_y: Option<f64>,
+    /// instead of --wheel-radius-m/--rail-radius-m (-0.0025 is a centred wheelset: tape
+    /// circles 1500 mm apart on 1435 mm gauge).
+    #[arg(long = "wheel-y-m", alias = "wheel-y", allow_hyphen_values = true)]
+    wheel_y_m: Option<f64>,
     /// Young's modulus (Pa).
-    #[arg(long, default_value_t = 210e9, allow_hyphen_values = true)]
-    e: f64,
+    #[arg(long = "youngs-modulus-pa", alias = "e", default_value_t = Material::STEEL.youngs_modulus_pa, allow_hyphen_values = true)]
+    youngs_modulus_pa: f64,
     /// Poisson's ratio.
-    #[arg(long, default_value_t = 0.3, allow_hyphen_values = true)]
-    nu: f64,
+    #[arg(long = "poisson-ratio", alias = "nu", default_value_t = Material::STEEL.poisson_ratio, allow_hyphen_values = true)]
+    poisson_ratio: f64,
 }
 
 #[derive(Args, Debug)]
@@ -110,9 +114,9 @@ struct ContactArgs {
 struct HertzArgs {
     #[command(flatten)]
     contact: ContactArgs,
-    /// Print JSON (the default output is JSON too; kept for scripts).
-    #[arg(long)]
-    json: bool,
+    /// Also write the printed JSON to this file.
+    #[arg(long, num_args = 0..=1)]
+    json: Option<Option<PathBuf>>,
 }
 
 #[derive(Copy, Clone, Debug, ValueEnum)]
@@ -121,21 +125,31 @@ enum MethodArg {
     Fastsim,
 }
 
+impl From<Method> for MethodArg {
+    fn from(method: Method) -> MethodArg {
+        match method {
+            Method::Exact => MethodArg::Exact,
+            Method::Fastsim => MethodArg::Fastsim,
+        }
+    }
+}
+
 #[derive(Args, Debug, Clone)]
 struct SolutionArgs {
     /// Friction coefficient.
     #[arg(long, allow_hyphen_values = true)]
     mu: Option<f64>,
     /// Spin creepage phi (1/m).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    phi: f64,
+    #[arg(long = "phi-per-m", alias = "phi", default_value_t = Creepages::default().phi_per_m, allow_hyphen_values = true)]
+    phi_per_m: f64,
     /// Theory: exact half-space (CONTACT-like) or FASTSIM.
-    #[arg(long, value_enum, default_value_t = MethodArg::Exact)]
+    #[arg(long, value_enum, default_value_t = MethodArg::from(Method::default()))]
     method: MethodArg,
     /// Elements (exact) or points (FASTSIM) per axis.
-    #[arg(long, default_value_t = 60)]
+    #[arg(long, default_value_t = DEFAULT_GRID)]
     grid: usize,
-    /// Write traction/slip map CSV and summary JSON to this directory.
+    /// Folder for the traction/slip map (traction.csv) and summary.json. Default:
+    /// out/kalker/solve or out/kalker/creep.
     #[arg(long)]
     out: Option<PathBuf>,
 }
@@ -148,11 +162,11 @@ struct SolveArgs {
     #[command(flatten)]
     solution: SolutionArgs,
     /// Longitudinal creep force Fx on the wheel (N).
-    #[arg(long, allow_hyphen_values = true)]
-    fx: Option<f64>,
+    #[arg(long = "force-x-n", alias = "fx", allow_hyphen_values = true)]
+    force_x_n: Option<f64>,
     /// Lateral creep force Fy on the wheel (N).
-    #[arg(long, allow_hyphen_values = true)]
-    fy: Option<f64>,
+    #[arg(long = "force-y-n", alias = "fy", allow_hyphen_values = true)]
+    force_y_n: Option<f64>,
 }
 
 #[derive(Args, Debug)]
@@ -163,10 +177,10 @@ struct CreepArgs {
     #[command(flatten)]
     solution: SolutionArgs,
     /// Longitudinal creepage xi (-).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = Creepages::default().xi, allow_hyphen_values = true)]
     xi: f64,
     /// Lateral creepage eta (-).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = Creepages::default().eta, allow_hyphen_values = true)]
     eta: f64,
 }
 
@@ -174,10 +188,13 @@ struct CreepArgs {
 pub fn run(args: KalkerArgs) -> Result<()> {
     match args.command {
         Some(KalkerCommand::Hertz(hertz)) => run_hertz(hertz),
-        Some(KalkerCommand::Solve(solve)) => run_solve(solve),
+        Some(KalkerCommand::Solve(solve)) => run_solve(solve, "kalker/solve"),
         Some(KalkerCommand::Creep(creep)) => run_creep(creep),
         Some(KalkerCommand::Compare(compare)) => run_compare(compare),
-        None => run_solve(args.solve),
+        None => {
+            note("squeal kalker OPTIONS", "squeal kalker solve OPTIONS");
+            run_solve(args.solve, "kalker/solve")
+        }
     }
 }
 
@@ -186,12 +203,16 @@ fn required(value: Option<f64>, option: &str) -> Result<f64> {
 }
 
 fn hertz_of(contact: &ContactArgs) -> Result<HertzContact> {
-    let normal_force_n = required(contact.normal_force_n, "--fn")?;
+    let normal_force_n = required(contact.normal_force_n, "--normal-force-n")?;
     squeal::kalker::validate_normal_force(normal_force_n, "command line")?;
-    let material = Material::validated(contact.e, contact.nu, "command line")?;
-    if let Some(y) = contact.wheel_y {
+    let material = Material::validated(
+        contact.youngs_modulus_pa,
+        contact.poisson_ratio,
+        "command line",
+    )?;
+    if let Some(y) = contact.wheel_y_m {
         // S1002 on 54E1 at 1:40: curvatures at the first point of contact.
-        let pc = squeal::kalker::profiles::s1002_on_54e1(y, contact.wheel_radius)?;
+        let pc = squeal::kalker::profiles::s1002_on_54e1(y, contact.wheel_radius_m)?;
         eprintln!(
             "S1002 on 54E1 (1:40), tape circle at y = {y} m: contact at y = {:.4} m (S = {:.2} mm), curvatures A = {:.4}, B = {:.4} 1/m",
             pc.contact_y_m, pc.contact_s_mm, pc.curvature_x_per_m, pc.curvature_y_per_m
@@ -204,8 +225,8 @@ fn hertz_of(contact: &ContactArgs) -> Result<HertzContact> {
         );
     }
     HertzContact::wheel_on_rail(
-        contact.wheel_radius,
-        contact.rail_radius,
+        contact.wheel_radius_m,
+        contact.rail_radius_m,
         normal_force_n,
         material,
     )
@@ -224,11 +245,16 @@ fn hertz_json(hertz: &HertzContact) -> serde_json::Value {
 
 fn run_hertz(args: HertzArgs) -> Result<()> {
     let hertz = hertz_of(&args.contact)?;
-    let _ = args.json; // JSON is the only output format.
-    println!(
-        "{}",
-        serde_json::to_string_pretty(&hertz_json(&hertz)).unwrap_or_default()
-    );
+    let text = serde_json::to_string_pretty(&hertz_json(&hertz)).unwrap_or_default();
+    println!("{text}");
+    match args.json {
+        Some(Some(path)) => {
+            super::mesh::write_json(&path, &hertz_json(&hertz))?;
+            println!("wrote {}", path.display());
+        }
+        Some(None) => note("--json (no value)", "nothing (the JSON is printed) or --json FILE"),
+        None => {}
+    }
     Ok(())
 }
 
@@ -242,17 +268,17 @@ fn solver_of(hertz: &HertzContact, solution: &SolutionArgs) -> Result<RollingSol
     RollingSolver::new(hertz, mu, method, solution.grid)
 }
 
-fn run_solve(args: SolveArgs) -> Result<()> {
+fn run_solve(args: SolveArgs, command: &str) -> Result<()> {
     let hertz = hertz_of(&args.contact)?;
     let solver = solver_of(&hertz, &args.solution)?;
-    let force_x_n = required(args.fx, "--fx")?;
-    let force_y_n = required(args.fy, "--fy")?;
+    let force_x_n = required(args.force_x_n, "--force-x-n")?;
+    let force_y_n = required(args.force_y_n, "--force-y-n")?;
     let result = solve_force_prescribed(
         &solver,
         (hertz.semi_axis_a_m, hertz.semi_axis_b_m),
         force_x_n,
         force_y_n,
-        args.solution.phi,
+        args.solution.phi_per_m,
     )?;
     let summary = json!({
         "mode": "force-prescribed",
@@ -269,7 +295,8 @@ fn run_solve(args: SolveArgs) -> Result<()> {
         "adhesion_area_fraction": result.solution.adhesion_area_fraction(),
         "hertz": hertz_json(&hertz),
     });
-    finish(&summary, &result.solution, args.solution.out.as_ref())
+    let out = out_dir(args.solution.out, command, "");
+    finish(&summary, &result.solution, &out)
 }
 
 fn run_creep(args: CreepArgs) -> Result<()> {
@@ -278,7 +305,7 @@ fn run_creep(args: CreepArgs) -> Result<()> {
     let creepages = Creepages {
         xi: args.xi,
         eta: args.eta,
-        phi_per_m: args.solution.phi,
+        phi_per_m: args.solution.phi_per_m,
     };
     let solution = solver.solve(&creepages)?;
     let summary = json!({
@@ -294,18 +321,19 @@ fn run_creep(args: CreepArgs) -> Result<()> {
         "adhesion_area_fraction": solution.adhesion_area_fraction(),
         "hertz": hertz_json(&hertz),
     });
-    finish(&summary, &solution, args.solution.out.as_ref())
+    let out = out_dir(args.solution.out, "kalker/creep", "");
+    finish(&summary, &solution, &out)
 }
 
-/// Prints the summary and, with `--out`, writes `traction.csv` and `summary.json`.
+/// Prints the summary and writes `traction.csv` and `summary.json` into `out`.
 fn finish(
     summary: &serde_json::Value,
     solution: &RollingContactSolution,
-    out: Option<&PathBuf>,
+    out: &std::path::Path,
 ) -> Result<()> {
     let text = serde_json::to_string_pretty(summary).unwrap_or_default();
     println!("{text}");
-    if let Some(out) = out {
+    {
         // Written beside the output folder and moved into it when complete.
         let stage = StagedDir::new(out)?;
         let directory = stage.path();
@@ -333,6 +361,7 @@ fn finish(
         let summary_path = directory.join("summary.json");
         std::fs::write(&summary_path, text + "\n").map_err(|e| Error::io(&summary_path, e))?;
         stage.commit(Commit::Merge)?;
+        println!("wrote {}", out.display());
     }
     Ok(())
 }
@@ -349,21 +378,21 @@ fn run_compare(args: CompareArgs) -> Result<()> {
         ));
     }
     squeal::kalker::validate_friction(snapshot.mu, &source)?;
-    let curvatures = match args.wheel_y {
+    let curvatures = match args.wheel_y_m {
         Some(y) => {
-            let pc = squeal::kalker::profiles::s1002_on_54e1(y, args.wheel_radius)?;
+            let pc = squeal::kalker::profiles::s1002_on_54e1(y, args.wheel_radius_m)?;
             (pc.curvature_x_per_m, pc.curvature_y_per_m)
         }
-        None => (0.5 / args.wheel_radius, 0.5 / args.rail_radius),
+        None => (0.5 / args.wheel_radius_m, 0.5 / args.rail_radius_m),
     };
-    let material = Material::validated(210e9, 0.3, "command line")?;
+    let material = Material::STEEL;
     let method = match args.method {
         MethodArg::Exact => Method::Exact,
         MethodArg::Fastsim => Method::Fastsim,
     };
-    let (phi_per_m, phi_source) = match (args.phi, snapshot.normal_lateral_fraction) {
-        (Some(phi), _) => (phi, "--phi"),
-        (None, Some(sine)) => (sine / args.wheel_radius, "normal_lateral_fraction / R"),
+    let (phi_per_m, phi_source) = match (args.phi_per_m, snapshot.normal_lateral_fraction) {
+        (Some(phi), _) => (phi, "--phi-per-m"),
+        (None, Some(sine)) => (sine / args.wheel_radius_m, "normal_lateral_fraction / R"),
         (None, None) => (0.0, "none (0)"),
     };
     if !phi_per_m.is_finite() {
@@ -374,11 +403,11 @@ fn run_compare(args: CompareArgs) -> Result<()> {
         ));
     }
     let cmp = if args.profile_gap {
-        let Some(wheel_y_m) = args.wheel_y else {
+        let Some(wheel_y_m) = args.wheel_y_m else {
             return Err(Error::input(
                 "command line",
                 "--profile-gap",
-                "needs --wheel-y (the tape circle's lateral position on the rail)",
+                "needs --wheel-y-m (the tape circle's lateral position on the rail)",
             ));
         };
         if method != Method::Exact {
@@ -391,7 +420,7 @@ fn run_compare(args: CompareArgs) -> Result<()> {
         compare_snapshot_on_profiles(
             &snapshot,
             wheel_y_m,
-            args.wheel_radius,
+            args.wheel_radius_m,
             material,
             args.grid,
             phi_per_m,
@@ -412,7 +441,8 @@ fn run_compare(args: CompareArgs) -> Result<()> {
         .iter()
         .map(|p| p.pressure_pa)
         .fold(0.0, f64::max);
-    let stage = StagedDir::new(&args.out)?;
+    let out = out_dir(args.out.clone(), "kalker/compare", &input_name(&args.snapshot));
+    let stage = StagedDir::new(&out)?;
     squeal::report::kalker_charts::write_comparison_charts(&snapshot, &cmp, stage.path())?;
     let summary = json!({
         "time_s": snapshot.time_s,

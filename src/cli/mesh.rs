@@ -11,22 +11,97 @@ use squeal::output::write_file_staged;
 use squeal::scenario::LoadedScenario;
 use squeal::{Error, Result};
 
+use super::grammar::{input_name, note, out_dir};
+
 /// Arguments of `squeal mesh`.
 #[derive(Args, Debug)]
-#[command(group(clap::ArgGroup::new("input").required(true).args(["scenario", "wheel"])))]
+#[command(group(clap::ArgGroup::new("input").required(true).args(["model", "wheel"])))]
 pub struct MeshArgs {
-    /// Scenario file (wheel + track), e.g. data/models/demo.json.
-    #[arg(long)]
-    pub scenario: Option<PathBuf>,
+    /// Model file (wheel + track), e.g. data/models/demo.json.
+    #[arg(long, alias = "scenario")]
+    pub model: Option<PathBuf>,
     /// Wheel file only (wheel and half axle), e.g. data/wheels/ns_intercity_920.json.
     #[arg(long)]
     pub wheel: Option<PathBuf>,
-    /// Output mesh file(s): `.vtu` (ParaView) or `.msh` (Gmsh 4.1); may be repeated.
+    /// Folder for mesh.vtu (ParaView) and quality.json. Default: out/mesh/<model or wheel
+    /// name>.
     #[arg(long)]
     pub out: Vec<PathBuf>,
-    /// Write the quality report as JSON to this file.
+    /// Also write the mesh as VTU (ParaView) to this file.
+    #[arg(long)]
+    pub vtu: Option<PathBuf>,
+    /// Also write the mesh as Gmsh MSH 4.1 to this file.
+    #[arg(long)]
+    pub msh: Option<PathBuf>,
+    /// Also write the quality report as JSON to this file.
     #[arg(long)]
     pub json: Option<PathBuf>,
+}
+
+/// Where `squeal mesh` writes: the output folder (None with the deprecated file form of
+/// `--out`) and the single files, each with its format's extension checked.
+struct MeshOutputs {
+    dir: Option<PathBuf>,
+    vtu: Vec<PathBuf>,
+    msh: Vec<PathBuf>,
+}
+
+impl MeshOutputs {
+    fn of(args: &MeshArgs) -> Result<MeshOutputs> {
+        let extension = |p: &Path| p.extension().and_then(|e| e.to_str()).map(str::to_string);
+        let check = |p: &Path, option: &str, wanted: &str| -> Result<()> {
+            if extension(p).as_deref() == Some(wanted) {
+                Ok(())
+            } else {
+                Err(Error::input(
+                    "command line",
+                    option,
+                    format!("`{}`: the extension must be .{wanted}", p.display()),
+                ))
+            }
+        };
+        let mut outputs = MeshOutputs {
+            dir: None,
+            vtu: args.vtu.iter().cloned().collect(),
+            msh: args.msh.iter().cloned().collect(),
+        };
+        for p in &outputs.vtu {
+            check(p, "--vtu", "vtu")?;
+        }
+        for p in &outputs.msh {
+            check(p, "--msh", "msh")?;
+        }
+        // The previous release took mesh files in --out (repeatable): still accepted, with
+        // the note; any other --out value is the output folder, given once.
+        let mut dirs = Vec::new();
+        for p in &args.out {
+            match extension(p).as_deref() {
+                Some("vtu") => {
+                    note("--out FILE.vtu", "--vtu FILE.vtu (or --out DIR)");
+                    outputs.vtu.push(p.clone());
+                }
+                Some("msh") => {
+                    note("--out FILE.msh", "--msh FILE.msh (or --out DIR)");
+                    outputs.msh.push(p.clone());
+                }
+                _ => dirs.push(p.clone()),
+            }
+        }
+        if dirs.len() > 1 {
+            return Err(Error::input(
+                "command line",
+                "--out",
+                "give one output folder (mesh files: --vtu FILE, --msh FILE)",
+            ));
+        }
+        let deprecated_files = dirs.is_empty() && !args.out.is_empty();
+        if !deprecated_files {
+            let input = args.model.as_ref().or(args.wheel.as_ref());
+            let name = input.map(|p| input_name(p)).unwrap_or_default();
+            outputs.dir = Some(out_dir(dirs.pop(), "mesh", &name));
+        }
+        Ok(outputs)
+    }
 }
 
 /// Mass of the elements of the given materials (kg), from their volume and density.
@@ -40,20 +115,9 @@ pub fn mass_kg(mesh: &Mesh, materials: &[u32], density_kg_per_m3: f64) -> f64 {
 
 /// Run `squeal mesh`.
 pub fn run(args: MeshArgs) -> Result<()> {
-    for out in &args.out {
-        match out.extension().and_then(|e| e.to_str()) {
-            Some("vtu") | Some("msh") => {}
-            _ => {
-                return Err(Error::input(
-                    "command line",
-                    "--out",
-                    format!("`{}`: the extension must be .vtu or .msh", out.display()),
-                ))
-            }
-        }
-    }
+    let outputs = MeshOutputs::of(&args)?;
     let started = std::time::Instant::now();
-    let (mesh, steel) = if let Some(path) = &args.scenario {
+    let (mesh, steel) = if let Some(path) = &args.model {
         let loaded = LoadedScenario::from_file(path)?;
         (loaded.model_mesh(), loaded.wheel.material)
     } else {
@@ -83,7 +147,12 @@ pub fn run(args: MeshArgs) -> Result<()> {
     if let Some(json) = &args.json {
         write_json(json, &quality)?;
     }
-    for out in &args.out {
+    let mut files: Vec<PathBuf> = outputs.vtu.iter().chain(&outputs.msh).cloned().collect();
+    if let Some(dir) = &outputs.dir {
+        write_json(&dir.join("quality.json"), &quality)?;
+        files.push(dir.join("mesh.vtu"));
+    }
+    for out in &files {
         write_mesh(&mesh, out)?;
         println!("wrote {}", out.display());
     }

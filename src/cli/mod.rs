@@ -4,6 +4,7 @@ pub mod axisym;
 pub mod bench;
 pub mod default_run;
 pub mod ema;
+pub mod grammar;
 pub mod growth;
 pub mod hammer;
 pub mod identify;

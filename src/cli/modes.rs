@@ -14,9 +14,11 @@ use squeal::material::Material;
 use squeal::mesh::vtu;
 use squeal::modal::classify::ModeRecord;
 use squeal::modal::pipeline::{revolved_model, solve_and_classify};
-use squeal::modal::ModalSolution;
+use squeal::modal::{ModalOptions, ModalSolution};
 use squeal::model::modal::{mesh_model, wheel_model, Clamp};
 use squeal::{Error, Result};
+
+use super::grammar::{input_name, out_dir};
 
 /// Hexahedron formulation of the stiffness (`--hex8`).
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -25,6 +27,15 @@ pub enum Hex8Choice {
     Standard,
     /// Wilson–Taylor incompatible modes (condensed bubbles, patch-test corrected).
     Incompatible,
+}
+
+impl From<Hex8Kind> for Hex8Choice {
+    fn from(k: Hex8Kind) -> Self {
+        match k {
+            Hex8Kind::Standard => Hex8Choice::Standard,
+            Hex8Kind::Incompatible => Hex8Choice::Incompatible,
+        }
+    }
 }
 
 impl From<Hex8Choice> for Hex8Kind {
@@ -66,7 +77,7 @@ pub struct ModesArgs {
     #[arg(long, requires = "mesh")]
     pub density_kg_per_m3: Option<f64>,
     /// Upper band edge (Hz).
-    #[arg(long, default_value_t = 10_000.0)]
+    #[arg(long, default_value_t = ModalOptions::default().fmax_hz)]
     pub fmax_hz: f64,
     /// Boundary condition: `none` (free-free), `hub-bore` or `axle-ends` (named wheel node sets,
     /// --wheel only), or a box expression clamping every node inside it, e.g. "x<-1.09" or
@@ -78,7 +89,7 @@ pub struct ModesArgs {
     /// which do not lock in bending; on the wheel at 40 mm the axial (0,2)-(0,4) modes are
     /// 1.3-1.6 % above `squeal axisym` and (1,0), (1,1) 2.9 %. `standard`: the trilinear hex8,
     /// 2.5-4.1 % and 16-17 % above there. Tet10 elements are unaffected.
-    #[arg(long, value_enum, default_value = "incompatible")]
+    #[arg(long, value_enum, default_value_t = Hex8Choice::from(Hex8Kind::default()))]
     pub hex8: Hex8Choice,
     /// Mesh the wheel as the axisymmetric solver's Q9 cross-section (`squeal axisym` at the same
     /// --element-size-mm) revolved into this many 27-node quadratic sectors, instead of the
@@ -91,16 +102,16 @@ pub struct ModesArgs {
     /// Split the band into this many slices, one shift each (spectrum slicing; 1..=32): the
     /// first shift below the spectrum, the others in the middle of their slice, each slice's
     /// completeness checked by Sturm counts at its edges. For wide bands with many modes.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = ModalOptions::default().slices)]
     pub slices: usize,
     /// Hammer test to compare with: a CSV of labelled modes (data/hammer/), or a universal file
     /// (.uff/.unv) with FRFs (analysed by LSCF) or mode shapes, paired with the FE modes by MAC
     /// at its nodes (datasets 15/2411, in the model's axes).
     #[arg(long)]
     pub hammer: Option<PathBuf>,
-    /// Output directory.
-    #[arg(long, default_value = "out/modes")]
-    pub out: PathBuf,
+    /// Output folder. Default: out/modes/<wheel or mesh name>.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
     /// Write K.mtx and M.mtx (Matrix Market) to this directory.
     #[arg(long)]
     pub export_mtx: Option<PathBuf>,
@@ -180,7 +191,12 @@ pub fn run(args: ModesArgs) -> Result<()> {
     let run = solve_and_classify(&model, args.fmax_hz, args.slices)?;
     print_solution(&args, &run.solution);
     // Written beside the output folder and moved into it when complete.
-    let stage = StagedDir::new(&args.out)?;
+    let out = out_dir(
+        args.out.clone(),
+        "modes",
+        &input_name(args.wheel.as_ref().or(args.mesh.as_ref()).expect("clap group")),
+    );
+    let stage = StagedDir::new(&out)?;
     write_outputs(
         &args,
         stage.path(),
@@ -191,6 +207,7 @@ pub fn run(args: ModesArgs) -> Result<()> {
         |dir, fields| model.write_vtu(&dir.join("modes.vtu"), fields),
     )?;
     stage.commit(Commit::Merge)?;
+    println!("wrote {}", out.display());
     Ok(())
 }
 
@@ -388,7 +405,6 @@ fn write_outputs(
         Some(&dir.join("modal_chart.png")),
         Some(&dir.join("modal_chart.svg")),
     )?;
-    println!("wrote {}", args.out.display());
     Ok(())
 }
 

@@ -1,9 +1,54 @@
 //! `squeal profile`: the standard profiles as point tables.
 
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
 use clap::{Args, ValueEnum};
 use squeal::geometry::{curve2d::polygon_properties, rail54e1, s1002};
 use squeal::kalker::profiles;
+use squeal::kalker::rolling::DEFAULT_WHEEL_RADIUS_M;
 use squeal::{Error, Result};
+
+use super::grammar::note;
+
+/// Where the point table goes: nowhere (a summary is printed), standard output, or a file.
+enum TableTarget {
+    Summary,
+    Stdout,
+    File(PathBuf),
+}
+
+impl TableTarget {
+    fn of(csv: &Option<Option<PathBuf>>) -> TableTarget {
+        match csv {
+            None => TableTarget::Summary,
+            Some(None) => {
+                note("--csv (no value)", "--csv - (standard output) or --csv FILE");
+                TableTarget::Stdout
+            }
+            Some(Some(p)) if p.as_os_str() == "-" => TableTarget::Stdout,
+            Some(Some(p)) => TableTarget::File(p.clone()),
+        }
+    }
+
+    /// Emit a CSV table; returns whether the summary should still be printed.
+    fn emit(&self, table: &str) -> Result<bool> {
+        match self {
+            TableTarget::Summary => Ok(true),
+            TableTarget::Stdout => {
+                print!("{table}");
+                Ok(false)
+            }
+            TableTarget::File(path) => {
+                squeal::output::write_file_staged(path, |p| {
+                    std::fs::write(p, table).map_err(|e| Error::io(p, e))
+                })?;
+                println!("wrote {}", path.display());
+                Ok(true)
+            }
+        }
+    }
+}
 
 /// Which profile.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -27,30 +72,31 @@ pub enum ProfileName {
 pub struct ProfileArgs {
     /// Profile name.
     pub name: ProfileName,
-    /// Print the point table as CSV (default: a short summary).
-    #[arg(long)]
-    pub csv: bool,
+    /// Also write the point table as CSV to this file (`-`: standard output, instead of the
+    /// summary). `contact` and `gap` print their table anyway.
+    #[arg(long, num_args = 0..=1)]
+    pub csv: Option<Option<PathBuf>>,
     /// Point spacing (mm), in (0.001, 50].
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = profiles::DEFAULT_TABLE_STEP_MM)]
     pub step_mm: f64,
     /// For 54E1: apply the 1:40 inclination (top towards the track centre, -y).
     #[arg(long)]
     pub inclined: bool,
     /// For `contact`: first tape-circle position (mm from the rail centre), in [-30, 30].
-    #[arg(long, default_value_t = -30.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = profiles::DEFAULT_CONTACT_SCAN_MM.0, allow_negative_numbers = true)]
     pub from_mm: f64,
     /// For `contact`: last tape-circle position (mm), in [-30, 30] and >= --from-mm.
-    #[arg(long, default_value_t = 24.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = profiles::DEFAULT_CONTACT_SCAN_MM.1, allow_negative_numbers = true)]
     pub to_mm: f64,
     /// For `gap`: tape-circle position (mm from the rail centre), in [-30, 30].
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub wheel_y_mm: f64,
     /// For `contact` and `gap`: wheel rolling radius (m), in [0.2, 0.7].
-    #[arg(long, default_value_t = 0.46)]
+    #[arg(long, default_value_t = DEFAULT_WHEEL_RADIUS_M)]
     pub wheel_radius_m: f64,
     /// For 54E1: element size (mm) of the section mesh on which the torsion constant, shear
     /// centre and warping constant are solved, in [0.5, 10].
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = profiles::DEFAULT_SECTION_ELEMENT_MM)]
     pub section_mm: f64,
 }
 
@@ -81,22 +127,30 @@ pub fn run(args: ProfileArgs) -> Result<()> {
         in_range("--to-mm", args.to_mm, args.from_mm, 30.0)?;
         in_range("--wheel-y-mm", args.wheel_y_mm, -30.0, 30.0)?;
     }
+    let target = TableTarget::of(&args.csv);
     match args.name {
         ProfileName::Contact => {
-            println!("wheel_y_mm,contact_y_mm,curvature_x_per_m,curvature_y_per_m");
+            let mut table =
+                String::from("wheel_y_mm,contact_y_mm,curvature_x_per_m,curvature_y_per_m\n");
             let count = ((args.to_mm - args.from_mm) / args.step_mm + 1e-9).floor() as usize;
             for i in 0..=count {
                 let y_mm = args.from_mm + i as f64 * args.step_mm;
                 match profiles::s1002_on_54e1(y_mm * 1e-3, args.wheel_radius_m) {
-                    Ok(c) => println!(
-                        "{y_mm:.3},{:.3},{:.4},{:.4}",
-                        c.contact_y_m * 1e3,
-                        c.curvature_x_per_m,
-                        c.curvature_y_per_m
-                    ),
+                    Ok(c) => {
+                        let _ = writeln!(
+                            table,
+                            "{y_mm:.3},{:.3},{:.4},{:.4}",
+                            c.contact_y_m * 1e3,
+                            c.curvature_x_per_m,
+                            c.curvature_y_per_m
+                        );
+                    }
                     // A position without a single contact point: said, and the scan goes on.
                     Err(e) => eprintln!("wheel_y {y_mm:.3} mm: {e}"),
                 }
+            }
+            if target.emit(&table)? {
+                print!("{table}");
             }
         }
         ProfileName::Gap => {
@@ -105,14 +159,15 @@ pub fn run(args: ProfileArgs) -> Result<()> {
                 args.wheel_radius_m,
                 args.step_mm * 1e-3,
             )?;
-            println!(
-                "# tape circle at y = {} mm; first contact at y = {:.2} mm",
+            let mut table = format!(
+                "# tape circle at y = {} mm; first contact at y = {:.2} mm\n",
                 args.wheel_y_mm,
                 contact.contact_y_m * 1e3
             );
-            println!("y_mm,gap_um,rail_height_um,wheel_radius_increment_um");
+            table.push_str("y_mm,gap_um,rail_height_um,wheel_radius_increment_um\n");
             for r in rows {
-                println!(
+                let _ = writeln!(
+                    table,
                     "{:.3},{:.1},{:.1},{:.1}",
                     r.y_m * 1e3,
                     r.gap_m * 1e6,
@@ -120,15 +175,17 @@ pub fn run(args: ProfileArgs) -> Result<()> {
                     r.wheel_radius_increment_m * 1e6
                 );
             }
+            if target.emit(&table)? {
+                print!("{table}");
+            }
         }
         ProfileName::S1002 => {
             let table = s1002::point_table(args.step_mm);
-            if args.csv {
-                println!("s_mm,f_mm");
-                for (s, f) in table {
-                    println!("{s:.6},{f:.6}");
-                }
-            } else {
+            let mut csv = String::from("s_mm,f_mm\n");
+            for (s, f) in &table {
+                let _ = writeln!(csv, "{s:.6},{f:.6}");
+            }
+            if target.emit(&csv)? {
                 println!(
                     "S1002: {} points from S = {} to {} mm",
                     table.len(),
@@ -151,12 +208,11 @@ pub fn run(args: ProfileArgs) -> Result<()> {
             } else {
                 (0.0, 1.0)
             };
-            if args.csv {
-                println!("y_mm,z_mm");
-                for p in &pts {
-                    println!("{:.6},{:.6}", p[0] * c - p[1] * s, p[0] * s + p[1] * c);
-                }
-            } else {
+            let mut csv = String::from("y_mm,z_mm\n");
+            for p in &pts {
+                let _ = writeln!(csv, "{:.6},{:.6}", p[0] * c - p[1] * s, p[0] * s + p[1] * c);
+            }
+            if target.emit(&csv)? {
                 let (area, centroid, i_h, i_v) = polygon_properties(&pts);
                 println!(
                     "54E1: {} outline points; area {:.2} cm^2, centroid z {:.2} mm",

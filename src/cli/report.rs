@@ -1,11 +1,13 @@
 //! `squeal report RUN_DIR...`: the report over run directories.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 use squeal::output::{Commit, StagedDir};
 use squeal::report::run_report::{build_report, ReportOptions};
 use squeal::Result;
+
+use super::grammar::{input_name, note, REPORTS_ROOT};
 
 /// Arguments of `squeal report`.
 #[derive(Args, Debug)]
@@ -14,12 +16,16 @@ pub struct ReportArgs {
     /// run.json).
     #[arg(required = true)]
     pub run_dirs: Vec<PathBuf>,
-    /// Report name: written to <reports>/<name>/.
-    #[arg(long, default_value = "report")]
-    pub name: String,
-    /// Root folder of reports.
-    #[arg(long, default_value = "reports")]
-    pub reports: PathBuf,
+    /// Folder of the report (index.html, index.md, charts); replaced whole. Default:
+    /// reports/<run name> (several runs: their names joined by `+`).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Deprecated: --out REPORTS/NAME.
+    #[arg(long, hide = true, conflicts_with = "out")]
+    pub name: Option<String>,
+    /// Deprecated: --out REPORTS/NAME.
+    #[arg(long, hide = true, conflicts_with = "out")]
+    pub reports: Option<PathBuf>,
     /// Start of the analysed window (ms). Default: each run's lateral-motion onset (run.json),
     /// else its first sample.
     #[arg(long, allow_negative_numbers = true)]
@@ -41,8 +47,23 @@ pub struct ReportArgs {
 
 /// Run `squeal report`.
 pub fn run(args: ReportArgs) -> Result<()> {
-    squeal::output::check_plain_name("--name", &args.name)?;
-    let out = args.reports.join(&args.name);
+    let out = match (args.out, &args.name, &args.reports) {
+        (Some(out), _, _) => out,
+        (None, None, None) => {
+            let names: Vec<String> = args.run_dirs.iter().map(|d| input_name(d)).collect();
+            Path::new(REPORTS_ROOT).join(names.join("+"))
+        }
+        (None, name, reports) => {
+            note("--name/--reports", "--out REPORTS/NAME");
+            let name = name.clone().unwrap_or_else(|| "report".into());
+            squeal::output::check_plain_name("--name", &name)?;
+            reports
+                .clone()
+                .unwrap_or_else(|| PathBuf::from(REPORTS_ROOT))
+                .join(name)
+        }
+    };
+    let title = input_name(&out);
     // Written beside the final folder and moved into place only when complete.
     let stage = StagedDir::new(&out)?;
     let options = ReportOptions {
@@ -55,7 +76,7 @@ pub fn run(args: ReportArgs) -> Result<()> {
     let summary = build_report(
         &args.run_dirs,
         stage.path(),
-        &format!("squeal report: {}", args.name),
+        &format!("squeal report: {title}"),
         &options,
     )?;
     stage.commit(Commit::Replace)?;

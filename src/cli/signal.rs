@@ -6,18 +6,28 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use squeal::output::{write_file_staged, Commit, StagedDir};
+use squeal::signal::peaks::DEFAULT_PEAK_COUNT;
+use squeal::signal::wav::DEFAULT_SAMPLE_RATE_HZ;
+use squeal::signal::wavelet::DEFAULT_VOICES_PER_OCTAVE;
+use squeal::signal::welch::{DEFAULT_NPERSEG, DEFAULT_OVERLAP_FRACTION};
 use squeal::signal::{
     morlet_cwt, series::TimeSeries, wav::write_wav, welch, Detrend, PeakRanking, PeakSearch,
     PsdScaling, Scales, WelchParams, Window,
 };
 use squeal::{Error, Result};
 
+use super::grammar::{input_name, note, out_dir};
+
 /// Input column shared by the signal subcommands.
 #[derive(Args, Debug)]
+#[command(group(clap::ArgGroup::new("input").required(true).args(["source", "csv"])))]
 pub struct InputArgs {
-    /// CSV file with a `time_s` column (uniform steps) and the signal column.
-    #[arg(long)]
-    pub csv: PathBuf,
+    /// A run directory (its histories.csv is read) or a CSV file with a `time_s` column
+    /// (uniform steps) and the signal column.
+    pub source: Option<PathBuf>,
+    /// Deprecated: the CSV file as SOURCE.
+    #[arg(long, hide = true)]
+    pub csv: Option<PathBuf>,
     /// Name of the signal column.
     #[arg(long)]
     pub column: String,
@@ -28,8 +38,26 @@ pub struct InputArgs {
 }
 
 impl InputArgs {
+    /// The CSV file read: SOURCE's histories.csv for a run directory, else SOURCE itself.
+    fn csv_path(&self) -> PathBuf {
+        match (&self.source, &self.csv) {
+            (Some(source), _) if source.is_dir() => source.join("histories.csv"),
+            (Some(source), _) => source.clone(),
+            (None, Some(csv)) => {
+                note("--csv FILE", "FILE (a positional SOURCE)");
+                csv.clone()
+            }
+            (None, None) => unreachable!("clap's group requires SOURCE or --csv"),
+        }
+    }
+
+    /// The name of the input for a default output folder.
+    fn name(&self) -> String {
+        input_name(self.source.as_ref().or(self.csv.as_ref()).expect("one input"))
+    }
+
     fn read(&self) -> Result<TimeSeries> {
-        TimeSeries::from_csv(&self.csv, &self.column)
+        TimeSeries::from_csv(&self.csv_path(), &self.column)
     }
 
     fn unit(&self) -> String {
@@ -51,7 +79,7 @@ impl InputArgs {
             } => Error::input(
                 format!(
                     "{} column `{}` ({source_name})",
-                    self.csv.display(),
+                    self.csv_path().display(),
                     self.column
                 ),
                 field,
@@ -67,39 +95,40 @@ impl InputArgs {
 pub struct PsdArgs {
     #[command(flatten)]
     pub input: InputArgs,
-    /// Samples per segment (default: min(4096, signal length)).
+    /// Samples per segment. Default: the library's segment length, or the whole signal if
+    /// shorter.
     #[arg(long)]
     pub nperseg: Option<usize>,
     /// Segment overlap as a fraction of nperseg, in [0, 1).
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = DEFAULT_OVERLAP_FRACTION)]
     pub overlap: f64,
     /// Window: hann, hamming, boxcar.
-    #[arg(long, default_value = "hann")]
+    #[arg(long, default_value_t = Window::default().name().to_string())]
     pub window: String,
     /// Detrend per segment: constant, linear, none.
-    #[arg(long, default_value = "constant")]
+    #[arg(long, default_value_t = WelchParams::new(1).detrend.name().to_string())]
     pub detrend: String,
     /// Scaling: density (unit^2/Hz) or spectrum (unit^2).
-    #[arg(long, default_value = "density")]
+    #[arg(long, default_value_t = PsdScaling::default().name().to_string())]
     pub scaling: String,
     /// Number of dominant peaks to report.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = DEFAULT_PEAK_COUNT)]
     pub peaks: usize,
     /// Rank peaks by `prominence` or `height`.
-    #[arg(long, default_value = "prominence")]
+    #[arg(long, default_value_t = PeakRanking::default().name().to_string())]
     pub rank: String,
     /// Lowest peak frequency, Hz.
-    #[arg(long, default_value_t = 0.0)]
-    pub peak_fmin: f64,
+    #[arg(long = "fmin-hz", alias = "peak-fmin", default_value_t = PeakSearch::default().min_frequency_hz)]
+    pub fmin_hz: f64,
     /// Highest peak frequency, Hz (default: Nyquist).
-    #[arg(long)]
-    pub peak_fmax: Option<f64>,
+    #[arg(long = "fmax-hz", alias = "peak-fmax")]
+    pub fmax_hz: Option<f64>,
     /// Minimum separation between reported peaks, Hz.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = PeakSearch::default().min_separation_hz)]
     pub min_separation_hz: f64,
-    /// Output directory (psd.csv, peaks.json).
+    /// Output folder (psd.csv, peaks.json). Default: out/psd/<source name>/<column>.
     #[arg(long)]
-    pub out: PathBuf,
+    pub out: Option<PathBuf>,
 }
 
 /// Morlet wavelet power.
@@ -108,20 +137,21 @@ pub struct CwtArgs {
     #[command(flatten)]
     pub input: InputArgs,
     /// Lowest frequency, Hz.
-    #[arg(long)]
-    pub fmin: f64,
+    #[arg(long = "fmin-hz", alias = "fmin")]
+    pub fmin_hz: f64,
     /// Highest frequency, Hz (at most Nyquist).
-    #[arg(long)]
-    pub fmax: f64,
+    #[arg(long = "fmax-hz", alias = "fmax")]
+    pub fmax_hz: f64,
     /// Scales per octave.
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = DEFAULT_VOICES_PER_OCTAVE)]
     pub voices: usize,
     /// Write every n-th time sample (the transform uses all samples).
     #[arg(long, default_value_t = 1)]
     pub time_stride: usize,
-    /// Output directory (cwt_power.csv, cwt_coi.csv, cwt.json).
+    /// Output folder (cwt_power.csv, cwt_coi.csv, cwt.json). Default: out/cwt/<source
+    /// name>/<column>.
     #[arg(long)]
-    pub out: PathBuf,
+    pub out: Option<PathBuf>,
 }
 
 /// Audio export.
@@ -130,11 +160,11 @@ pub struct WavArgs {
     #[command(flatten)]
     pub input: InputArgs,
     /// Audio sample rate, Hz.
-    #[arg(long, default_value_t = 44_100)]
-    pub rate: u32,
-    /// Output WAV file.
+    #[arg(long = "sample-rate-hz", alias = "rate", default_value_t = DEFAULT_SAMPLE_RATE_HZ)]
+    pub sample_rate_hz: u32,
+    /// Output folder: the file is <column>.wav. Default: out/wav/<source name>.
     #[arg(long)]
-    pub out: PathBuf,
+    pub out: Option<PathBuf>,
 }
 
 fn create_file(path: &Path) -> Result<std::io::BufWriter<std::fs::File>> {
@@ -152,7 +182,9 @@ fn write_json(path: &Path, value: &serde_json::Value) -> Result<()> {
 pub fn run_psd(args: PsdArgs) -> Result<()> {
     let series = args.input.read()?;
     let cli = |field: &str, message: String| Error::input("command line", field, message);
-    let nperseg = args.nperseg.unwrap_or(series.values.len().min(4096));
+    let nperseg = args
+        .nperseg
+        .unwrap_or(series.values.len().min(DEFAULT_NPERSEG));
     let mut params = WelchParams::with_overlap_fraction(nperseg, args.overlap)
         .map_err(|e| args.input.in_context(e))?;
     params.window = args.window.parse::<Window>()?;
@@ -178,24 +210,24 @@ pub fn run_psd(args: PsdArgs) -> Result<()> {
         }
     };
     let nyquist_hz = 0.5 * series.sample_rate_hz;
-    if !(args.peak_fmin >= 0.0 && args.peak_fmin < nyquist_hz) {
+    if !(args.fmin_hz >= 0.0 && args.fmin_hz < nyquist_hz) {
         return Err(cli(
-            "--peak-fmin",
+            "--fmin-hz",
             format!(
                 "must be in [0, {nyquist_hz}) Hz (the Nyquist frequency of the {} Hz sampled \
                  column), got {}",
-                series.sample_rate_hz, args.peak_fmin
+                series.sample_rate_hz, args.fmin_hz
             ),
         ));
     }
-    if let Some(fmax) = args.peak_fmax {
-        if !(fmax > args.peak_fmin && fmax <= nyquist_hz) {
+    if let Some(fmax) = args.fmax_hz {
+        if !(fmax > args.fmin_hz && fmax <= nyquist_hz) {
             return Err(cli(
-                "--peak-fmax",
+                "--fmax-hz",
                 format!(
-                    "must be in ({}, {nyquist_hz}] Hz (above --peak-fmin, at most the Nyquist \
+                    "must be in ({}, {nyquist_hz}] Hz (above --fmin-hz, at most the Nyquist \
                      frequency), got {fmax}",
-                    args.peak_fmin
+                    args.fmin_hz
                 ),
             ));
         }
@@ -215,16 +247,21 @@ pub fn run_psd(args: PsdArgs) -> Result<()> {
     let psd = welch(&series.values, series.sample_rate_hz, &params)
         .map_err(|e| args.input.in_context(e))?;
     let search = PeakSearch {
-        min_frequency_hz: args.peak_fmin,
-        max_frequency_hz: args.peak_fmax.unwrap_or(f64::INFINITY),
+        min_frequency_hz: args.fmin_hz,
+        max_frequency_hz: args.fmax_hz.unwrap_or(f64::INFINITY),
         min_separation_hz: args.min_separation_hz,
         max_peaks: args.peaks,
         ranking,
     };
     let peaks = psd.find_peaks(&search)?;
 
+    let out = out_dir(
+        args.out.clone(),
+        "psd",
+        &format!("{}/{}", args.input.name(), args.input.column),
+    );
     // Written beside the output folder and moved into it when complete.
-    let stage = StagedDir::new(&args.out)?;
+    let stage = StagedDir::new(&out)?;
     let dir = stage.path().to_path_buf();
     let unit = args.input.unit();
     let psd_path = dir.join("psd.csv");
@@ -242,7 +279,7 @@ pub fn run_psd(args: PsdArgs) -> Result<()> {
     write_json(
         &dir.join("peaks.json"),
         &serde_json::json!({
-            "source": args.input.csv.display().to_string(),
+            "source": args.input.csv_path().display().to_string(),
             "column": args.input.column,
             "unit": unit,
             "sample_rate_hz": series.sample_rate_hz,
@@ -250,7 +287,7 @@ pub fn run_psd(args: PsdArgs) -> Result<()> {
             "frequency_resolution_hz": psd.frequency_resolution_hz,
             "segment_count": psd.segment_count,
             "peak_search": { "min_frequency_hz": search.min_frequency_hz,
-                             "max_frequency_hz": args.peak_fmax,
+                             "max_frequency_hz": args.fmax_hz,
                              "min_separation_hz": search.min_separation_hz,
                              "max_peaks": search.max_peaks, "ranking": search.ranking },
             "refinement": "parabola through ln(PSD) at bins k-1, k, k+1",
@@ -262,7 +299,7 @@ pub fn run_psd(args: PsdArgs) -> Result<()> {
         psd.frequency_hz.len(),
         psd.frequency_resolution_hz,
         psd.segment_count,
-        args.out.display()
+        out.display()
     );
     for peak in &peaks {
         println!(
@@ -280,13 +317,18 @@ pub fn run_cwt(args: CwtArgs) -> Result<()> {
     if args.time_stride == 0 {
         return Err(Error::input("command line", "time-stride", "must be >= 1"));
     }
-    let scales = Scales::from_frequency_band(args.fmin, args.fmax, args.voices)
+    let scales = Scales::from_frequency_band(args.fmin_hz, args.fmax_hz, args.voices)
         .map_err(|e| args.input.in_context(e))?;
     let cwt = morlet_cwt(&series.values, series.sample_rate_hz, &scales)
         .map_err(|e| args.input.in_context(e))?;
 
+    let out = out_dir(
+        args.out.clone(),
+        "cwt",
+        &format!("{}/{}", args.input.name(), args.input.column),
+    );
     // Written beside the output folder and moved into it when complete.
-    let stage = StagedDir::new(&args.out)?;
+    let stage = StagedDir::new(&out)?;
     let dir = stage.path().to_path_buf();
     let unit = args.input.unit();
     let time_s = |n: usize| series.start_time_s + n as f64 / series.sample_rate_hz;
@@ -313,7 +355,7 @@ pub fn run_cwt(args: CwtArgs) -> Result<()> {
     write_json(
         &dir.join("cwt.json"),
         &serde_json::json!({
-            "source": args.input.csv.display().to_string(),
+            "source": args.input.csv_path().display().to_string(),
             "column": args.input.column,
             "unit": unit,
             "wavelet": "Morlet, omega0 = 6, Torrence & Compo (1998) normalisation",
@@ -330,9 +372,9 @@ pub fn run_cwt(args: CwtArgs) -> Result<()> {
         "cwt: {} times x {} frequencies ({:.3}..{:.3} Hz) -> {}",
         cwt.time_count,
         cwt.frequency_count(),
-        args.fmin,
-        args.fmax,
-        args.out.display()
+        args.fmin_hz,
+        args.fmax_hz,
+        out.display()
     );
     stage.commit(Commit::Merge)?;
     Ok(())
@@ -341,14 +383,26 @@ pub fn run_cwt(args: CwtArgs) -> Result<()> {
 /// `squeal wav`.
 pub fn run_wav(args: WavArgs) -> Result<()> {
     let series = args.input.read()?;
-    let count = write_file_staged(&args.out, |p| {
-        write_wav(p, &series.values, series.sample_rate_hz, args.rate)
+    // The previous release took the WAV file itself in --out: still accepted, with the note.
+    let file = match &args.out {
+        Some(out) if out.extension().is_some_and(|e| e == "wav") => {
+            note("--out FILE.wav", "--out DIR (the file is DIR/<column>.wav)");
+            out.clone()
+        }
+        _ => out_dir(args.out.clone(), "wav", &args.input.name())
+            .join(format!("{}.wav", args.input.column)),
+    };
+    if let Some(dir) = file.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    let count = write_file_staged(&file, |p| {
+        write_wav(p, &series.values, series.sample_rate_hz, args.sample_rate_hz)
     })
     .map_err(|e| args.input.in_context(e))?;
     println!(
         "wav: {count} samples at {} Hz -> {}",
-        args.rate,
-        args.out.display()
+        args.sample_rate_hz,
+        file.display()
     );
     Ok(())
 }

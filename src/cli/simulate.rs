@@ -7,6 +7,8 @@ use squeal::model::case::{MultiRateMode, PreloadMethod};
 use squeal::rolling::{load_case, simulate, SimulateOptions, StopFlag};
 use squeal::{Error, Result};
 
+use super::grammar::{input_name, out_dir};
+
 /// The five cases of the paper (Yang & Li 2019) at a resolution: the case files
 /// `data/cases/case1-<resolution>.json` .. `case5-<resolution>.json`.
 pub fn all_cases(resolution: Resolution) -> Vec<String> {
@@ -33,18 +35,19 @@ pub enum Resolution {
 #[derive(Args, Debug)]
 pub struct SimulateArgs {
     /// Case file, e.g. data/cases/case3-demo.json.
-    #[arg(long, required_unless_present = "all_cases")]
-    pub scenario: Option<PathBuf>,
+    #[arg(long, alias = "scenario", required_unless_present = "all_cases")]
+    pub case: Option<PathBuf>,
     /// Run the five cases (data/cases/case1-<resolution>.json .. case5-...), each into
     /// OUT/<case name>/.
-    #[arg(long, conflicts_with = "scenario")]
+    #[arg(long, conflicts_with = "case")]
     pub all_cases: bool,
     /// Resolution of --all-cases: `demo` or `paper`.
     #[arg(long, value_enum, default_value = "demo", requires = "all_cases")]
     pub resolution: Resolution,
-    /// Output directory (the run directory; with --all-cases, the parent of one per case).
+    /// Output folder: the run directory (with --all-cases, the parent of one per case).
+    /// Default: out/simulate/<case name> (with --all-cases: out/simulate).
     #[arg(long)]
-    pub out: PathBuf,
+    pub out: Option<PathBuf>,
     /// Resume from the checkpoint in the output directory.
     #[arg(long, conflicts_with = "overwrite")]
     pub resume: bool,
@@ -134,6 +137,7 @@ pub fn stepping_override(multi_rate: bool, single_rate: bool) -> Option<MultiRat
 pub fn run(args: SimulateArgs) -> Result<()> {
     let stop = stop_on_signal();
     let cases: Vec<(PathBuf, PathBuf)> = if args.all_cases {
+        let parent = out_dir(args.out.clone(), "simulate", "");
         all_cases(args.resolution)
             .iter()
             .map(|c| {
@@ -142,24 +146,21 @@ pub fn run(args: SimulateArgs) -> Result<()> {
                     .file_stem()
                     .map(|s| s.to_string_lossy().to_string())
                     .unwrap_or_default();
-                (p, args.out.join(stem))
+                (p, parent.join(stem))
             })
             .collect()
     } else {
-        let p = args.scenario.clone().ok_or_else(|| {
-            Error::input(
-                "command line",
-                "--scenario",
-                "give a case file or --all-cases",
-            )
+        let p = args.case.clone().ok_or_else(|| {
+            Error::input("command line", "--case", "give a case file or --all-cases")
         })?;
-        vec![(p, args.out.clone())]
+        let out = out_dir(args.out.clone(), "simulate", &input_name(&p));
+        vec![(p, out)]
     };
     for (case_path, out) in cases {
         if !case_path.exists() {
             return Err(Error::input(
                 case_path.display().to_string(),
-                "--scenario",
+                "--case",
                 "file does not exist",
             ));
         }
@@ -219,7 +220,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         }
         if record.run.status == "interrupted" {
             return Err(Error::Interrupted(format!(
-                "case {}: {}: `squeal simulate --scenario {} --out {} --resume`",
+                "case {}: {}: `squeal simulate --case {} --out {} --resume`",
                 record.case,
                 record.run.diagnosis.unwrap_or_default(),
                 case_path.display(),

@@ -1,4 +1,4 @@
-//! `squeal stability --case CASE [--run DIR --time-ms T] [--sweep eta=0..0.01:50] --out DIR`:
+//! `squeal stability [RUN_DIR --time-ms T] --case CASE [--sweep eta=0..0.01:50] [--out DIR]`:
 //! complex eigenvalues of the rolling wheel-rail system linearised at an operating point
 //! (docs/stability.md).
 
@@ -15,6 +15,8 @@ use squeal::stability::output::StabilityReport;
 use squeal::stability::sweep::{parse_sweep, run_sweep};
 use squeal::stability::wheel::{check_fmax, WheelDamping};
 use squeal::{Error, Result};
+
+use super::grammar::{input_name, note, out_dir};
 
 /// The tangential contact law.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -34,29 +36,33 @@ pub struct StabilityArgs {
     /// data/cases/case3-demo.json.
     #[arg(long)]
     pub case: PathBuf,
-    /// Run directory of that case: take the operating point from its contact forces at --time-ms.
-    #[arg(long, requires = "time_ms")]
+    /// Run directory of that case: take the operating point from its contact forces at
+    /// --time-ms.
+    #[arg(requires = "time_ms")]
+    pub run_dir: Option<PathBuf>,
+    /// Deprecated: RUN_DIR (positional).
+    #[arg(long, hide = true, conflicts_with = "run_dir", requires = "time_ms")]
     pub run: Option<PathBuf>,
     /// Time in the run (ms).
-    #[arg(long, requires = "run", allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true)]
     pub time_ms: Option<f64>,
-    /// Sweep one parameter: NAME=FROM..TO:POINTS, NAME one of eta, xi, mu, friction-slope,
-    /// contact-s-mm.
+    /// Sweep one parameter: NAME=FROM..TO:POINTS, NAME one of eta, xi, mu,
+    /// friction-slope-s-per-m, contact-s-mm.
     #[arg(long)]
     pub sweep: Option<String>,
     /// Wheel modes (and reported eigenvalues) up to this frequency (Hz), at most 10000.
-    #[arg(long, default_value_t = 5000.0)]
+    #[arg(long, default_value_t = Settings::default().fmax_hz)]
     pub fmax_hz: f64,
     /// Override the normal force (N).
-    #[arg(long = "fn", allow_negative_numbers = true)]
-    pub normal_force: Option<f64>,
+    #[arg(long = "normal-force-n", alias = "fn", allow_negative_numbers = true)]
+    pub normal_force_n: Option<f64>,
     /// Prescribe the creep forces Fx, Fy (N, both): the creepages then come from Kalker's
     /// exact theory (as CONTACT does).
-    #[arg(long, requires = "fy", allow_negative_numbers = true)]
-    pub fx: Option<f64>,
-    /// See --fx.
-    #[arg(long, requires = "fx", allow_negative_numbers = true)]
-    pub fy: Option<f64>,
+    #[arg(long = "force-x-n", alias = "fx", requires = "force_y_n", allow_negative_numbers = true)]
+    pub force_x_n: Option<f64>,
+    /// See --force-x-n.
+    #[arg(long = "force-y-n", alias = "fy", requires = "force_x_n", allow_negative_numbers = true)]
+    pub force_y_n: Option<f64>,
     /// Lateral creepage of a case-file operating point (default 0.0018, signed as the lateral
     /// motion), or an override of the run's.
     #[arg(long, allow_negative_numbers = true)]
@@ -68,16 +74,16 @@ pub struct StabilityArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub mu: Option<f64>,
     /// Override the falling-friction slope dmu/dv (s/m; negative for falling friction).
-    #[arg(long, allow_negative_numbers = true)]
-    pub friction_slope: Option<f64>,
+    #[arg(long = "friction-slope-s-per-m", alias = "friction-slope", allow_negative_numbers = true)]
+    pub friction_slope_s_per_m: Option<f64>,
     /// Override the contact position on the wheel tread (profile coordinate S, mm).
     #[arg(long, allow_negative_numbers = true)]
     pub contact_s_mm: Option<f64>,
     /// Tangential contact law.
-    #[arg(long, value_enum, default_value_t = ContactLaw::Exact)]
+    #[arg(long, value_enum, default_value_t = ContactLaw::of(Settings::default().tangential))]
     pub contact_law: ContactLaw,
     /// Elements (points) per axis of the Kalker solutions of the linearisation.
-    #[arg(long, default_value_t = 24)]
+    #[arg(long, default_value_t = default_kalker_elements())]
     pub kalker_elements: usize,
     /// Split the wheel's n-diameter pairs by its rotation (omega +- n Omega).
     #[arg(long)]
@@ -94,9 +100,35 @@ pub struct StabilityArgs {
     /// Modal loss factor of axle-family modes.
     #[arg(long, default_value_t = WheelDamping::default().loss_factor_axle)]
     pub loss_axle: f64,
-    /// Output folder (stability.json, stability.csv, charts).
+    /// Output folder (stability.json, stability.csv, charts). Default: out/stability/<case
+    /// name>, or out/stability/<run name>-<T>ms with a run.
     #[arg(long)]
-    pub out: PathBuf,
+    pub out: Option<PathBuf>,
+}
+
+impl ContactLaw {
+    /// The law of a tangential model.
+    fn of(model: TangentialModel) -> ContactLaw {
+        match model {
+            TangentialModel::Kalker {
+                method: Method::Exact,
+                ..
+            } => ContactLaw::Exact,
+            TangentialModel::Kalker {
+                method: Method::Fastsim,
+                ..
+            } => ContactLaw::Fastsim,
+            TangentialModel::Coulomb | TangentialModel::Frictionless => ContactLaw::Coulomb,
+        }
+    }
+}
+
+/// The library's Kalker elements per axis of the linearisation.
+fn default_kalker_elements() -> usize {
+    match Settings::default().tangential {
+        TangentialModel::Kalker { elements, .. } => elements,
+        TangentialModel::Coulomb | TangentialModel::Frictionless => KALKER_ELEMENTS,
+    }
 }
 
 /// The settings of the arguments (checked).
@@ -131,11 +163,11 @@ fn settings(args: &StabilityArgs) -> Result<Settings> {
 
 /// The ranges of the overrides that need no model, checked before the wheel's modes are solved.
 fn check_overrides(args: &StabilityArgs) -> Result<()> {
-    if let Some(f) = args.normal_force {
+    if let Some(f) = args.normal_force_n {
         if !(f.is_finite() && f > 0.0) {
             return Err(Error::input(
                 "command line",
-                "--fn",
+                "--normal-force-n",
                 format!("the normal force must be > 0 N (the wheel pressed on the rail), got {f}"),
             ));
         }
@@ -154,7 +186,7 @@ fn apply_overrides(
     model: &StabilityModel,
     op: &mut OperatingPoint,
 ) -> Result<()> {
-    if let Some(f) = args.normal_force {
+    if let Some(f) = args.normal_force_n {
         op.normal_force_n = f;
     }
     if let Some(v) = args.mu {
@@ -166,18 +198,18 @@ fn apply_overrides(
     if let Some(v) = args.eta {
         op.creepages.eta = v;
     }
-    if let Some(v) = args.friction_slope {
+    if let Some(v) = args.friction_slope_s_per_m {
         op.friction_slope_s_per_m = v;
     }
     if let Some(v) = args.contact_s_mm {
         op.contact_s_mm = v;
     }
-    if let (Some(fx), Some(fy)) = (args.fx, args.fy) {
+    if let (Some(fx), Some(fy)) = (args.force_x_n, args.force_y_n) {
         let bound = op.mu * op.normal_force_n;
         if fx.hypot(fy) > bound {
             return Err(Error::input(
                 "command line",
-                "--fx/--fy",
+                "--force-x-n/--force-y-n",
                 format!(
                     "the creep force {:.0} N exceeds mu Fn = {bound:.0} N (mu {}, Fn {:.0} N): outside the model, which needs |F| <= mu Fn",
                     fx.hypot(fy),
@@ -210,13 +242,46 @@ fn apply_overrides(
 /// Run `squeal stability`.
 pub fn run(args: StabilityArgs) -> Result<()> {
     let settings = settings(&args)?;
-    let sweep = args.sweep.as_deref().map(parse_sweep).transpose()?;
+    let sweep = args
+        .sweep
+        .as_deref()
+        .map(|text| match text.strip_prefix("friction-slope=") {
+            Some(range) => {
+                note("--sweep friction-slope=...", "--sweep friction-slope-s-per-m=...");
+                parse_sweep(&format!("friction-slope-s-per-m={range}"))
+            }
+            None => parse_sweep(text),
+        })
+        .transpose()?;
     check_overrides(&args)?;
+    let run_dir = match (&args.run_dir, &args.run) {
+        (Some(dir), _) => Some(dir.clone()),
+        (None, Some(dir)) => {
+            note("--run RUN_DIR", "RUN_DIR (positional)");
+            Some(dir.clone())
+        }
+        (None, None) => None,
+    };
+    if args.time_ms.is_some() && run_dir.is_none() {
+        return Err(Error::input(
+            "command line",
+            "--time-ms",
+            "needs a run directory (RUN_DIR) to take the operating point from",
+        ));
+    }
     let loaded = load_case(&args.case)?;
     // The run's sample first: a time outside the run fails before the modes are solved.
-    let sample = match (&args.run, args.time_ms) {
+    let sample = match (&run_dir, args.time_ms) {
         (Some(dir), Some(t)) => Some(operating::read_run_sample(&loaded, dir, t)?),
         _ => None,
+    };
+    let out = match (&run_dir, args.time_ms) {
+        (Some(dir), Some(t)) => out_dir(
+            args.out.clone(),
+            "stability",
+            &format!("{}-{t}ms", input_name(dir)),
+        ),
+        _ => out_dir(args.out.clone(), "stability", &input_name(&args.case)),
     };
     let t0 = std::time::Instant::now();
     let model = StabilityModel::build(&loaded, settings)?;
@@ -240,9 +305,9 @@ pub fn run(args: StabilityArgs) -> Result<()> {
         .transpose()?;
     let report = StabilityReport::new(&model, &op, &rail_models, wheel.dofs.len(), point, sweep);
     print!("{}", report.summary());
-    std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
+    std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
     let write = |name: &str, text: String| -> Result<()> {
-        let p = args.out.join(name);
+        let p = out.join(name);
         std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
     };
     write(
@@ -252,19 +317,19 @@ pub fn run(args: StabilityArgs) -> Result<()> {
     write("stability.csv", report.csv())?;
     write_eigenvalue_map(
         &report.point,
-        Some(&args.out.join("eigenvalues.png")),
-        Some(&args.out.join("eigenvalues.svg")),
+        Some(&out.join("eigenvalues.png")),
+        Some(&out.join("eigenvalues.svg")),
     )?;
     if let Some(s) = &report.sweep {
         write_stability_map(
             s,
-            Some(&args.out.join("stability_map.png")),
-            Some(&args.out.join("stability_map.svg")),
+            Some(&out.join("stability_map.png")),
+            Some(&out.join("stability_map.svg")),
         )?;
     }
     println!(
         "wrote {}/stability.{{json,csv}} and charts ({:.1} s in all)",
-        args.out.display(),
+        out.display(),
         t0.elapsed().as_secs_f64()
     );
     Ok(())

@@ -4,14 +4,16 @@
 use super::hex8::{ElasticMaterial, ElementMatrices};
 use crate::mesh::P3;
 
-/// Which hexahedron stiffness the modal assembly uses (the mass is the same for both).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Which hexahedron stiffness the modal assembly uses (the mass is the same for both). The
+/// default is the incompatible-modes element, which does not lock in bending (docs/modal.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Hex8Kind {
     /// The trilinear (conforming) element of this module: exact for linear fields, but it locks
     /// in bending (parasitic shear) when a bent plate or beam is only one or two elements thick.
     Standard,
     /// Wilson–Taylor incompatible modes ("QM6"), [`super::hex8_incompatible`]: three statically
     /// condensed bubble modes per displacement component represent the quadratic bending field.
+    #[default]
     Incompatible,
 }
 

@@ -47,9 +47,9 @@ pub fn solve_force_prescribed(
     phi_per_m: f64,
 ) -> Result<ForcePrescribedResult> {
     for (value, name) in [
-        (force_x_n, "--fx"),
-        (force_y_n, "--fy"),
-        (phi_per_m, "--phi"),
+        (force_x_n, "--force-x-n"),
+        (force_y_n, "--force-y-n"),
+        (phi_per_m, "--phi-per-m"),
     ] {
         if !value.is_finite() {
             return Err(Error::input(
@@ -64,7 +64,7 @@ pub fn solve_force_prescribed(
     if tangential_n > limit_n * (1.0 + SATURATION_TOLERANCE) {
         return Err(Error::input(
             "command line",
-            "--fx/--fy",
+            "--force-x-n/--force-y-n",
             format!(
                 "creep force |F_t| = {tangential_n:.6e} N exceeds the traction bound mu Fn = {limit_n:.6e} N; Coulomb friction cannot carry it"
             ),

@@ -52,7 +52,7 @@ pub fn validate_normal_force(normal_force_n: f64, source: &str) -> Result<()> {
     if !(normal_force_n.is_finite() && normal_force_n > 0.0) {
         return Err(Error::input(
             source,
-            "--fn",
+            "--normal-force-n",
             format!("normal force must be > 0 N, got {normal_force_n}"),
         ));
     }

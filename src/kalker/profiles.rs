@@ -67,6 +67,16 @@ pub fn rail_contact_angle_deg(y_m: f64) -> Option<f64> {
     Some(slope.atan().to_degrees())
 }
 
+/// Default point spacing of a profile table (mm): finer than the 1 mm contact-zone elements of
+/// the `paper` meshes.
+pub const DEFAULT_TABLE_STEP_MM: f64 = 0.5;
+/// Default span of tape-circle positions (mm from the rail centre) of a contact scan: from
+/// 30 mm towards the track centre to 24 mm towards the field side, short of flange contact.
+pub const DEFAULT_CONTACT_SCAN_MM: (f64, f64) = (-30.0, 24.0);
+/// Default element size (mm) of the rail section mesh on which the section's torsion constant,
+/// shear centre and warping constant are solved.
+pub const DEFAULT_SECTION_ELEMENT_MM: f64 = 1.0;
+
 /// A contact angle from which the contact counts as flange contact (degrees): past the gauge
 /// corner (the rail's R13 arc, 15-30 degrees in S1002 on 54E1) and onto the flange flank,
 /// which stands at about 70 degrees.

@@ -16,9 +16,10 @@ use super::Material;
 use crate::{Error, Result};
 
 /// Which theory to use.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 pub enum Method {
     /// Exact half-space theory (CONTACT-like boundary elements).
+    #[default]
     Exact,
     /// Kalker's simplified theory FASTSIM.
     Fastsim,
@@ -36,6 +37,15 @@ impl Method {
 
 /// Potential contact area margin around the Hertz ellipse (fraction of the semi-axes).
 pub const GRID_MARGIN: f64 = 0.1;
+/// Default elements (exact theory) or points (FASTSIM) per axis of the potential contact
+/// area: 60 x 60 puts the adhesion/slip boundary of a ~6 mm patch within 0.2 mm, and the
+/// exact solution takes about 0.2-0.4 s (docs/performance.md).
+pub const DEFAULT_GRID: usize = 60;
+/// Default wheel rolling radius (m): the nominal radius of the 920 mm NS intercity wheel of
+/// Yang & Li (2019) (data/wheels/ns_intercity_920.json).
+pub const DEFAULT_WHEEL_RADIUS_M: f64 = 0.46;
+/// Default rail crown radius (m): the 300 mm crown of the 54E1 head (EN 13674-1).
+pub const DEFAULT_RAIL_CROWN_RADIUS_M: f64 = crate::geometry::rail54e1::CROWN_RADIUS_MM * 1e-3;
 /// Fewest elements across the contact patch for a meaningful solution.
 pub const MIN_ELEMENTS_ACROSS_PATCH: usize = 8;
 
@@ -263,7 +273,7 @@ impl RollingSolver {
         for (value, name) in [
             (creepages.xi, "--xi"),
             (creepages.eta, "--eta"),
-            (creepages.phi_per_m, "--phi"),
+            (creepages.phi_per_m, "--phi-per-m"),
         ] {
             if !value.is_finite() {
                 return Err(Error::input(

@@ -31,8 +31,6 @@ const SQUEAL_BANDS: [(u32, u32, &str); 3] = [
     (0, 4, "rim_point_minus_mean_lateral_velocity_m_per_s"),
 ];
 
-/// Window of the growth-rate fits in the squeal section (s).
-const GROWTH_WINDOW_S: f64 = 0.004;
 
 /// Wavelet power of one signal as a heatmap (time in ms, frequency log axis, COI overlay).
 fn wavelet_chart(
@@ -696,6 +694,7 @@ pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
         report_options,
     } = *ctx;
     // ---- Squeal: do the zero-nodal-circle modes grow?
+    let growth_options = crate::analysis::growth::GrowthOptions::default();
     let mut squeal_md = String::new();
     for r in runs {
         let Some(modes) = &r.modes else { continue };
@@ -705,7 +704,7 @@ pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
             if r.histories.column(column).is_none() {
                 continue;
             }
-            let Ok(bands) = crate::analysis::growth::bands_for_modes(modes, &[(m, n)], 0.05) else {
+            let Ok(bands) = crate::analysis::growth::bands_for_modes(modes, &[(m, n)], growth_options.half_width) else {
                 continue;
             };
             let series = crate::analysis::growth::read_column(&r.dir, column)?;
@@ -713,7 +712,7 @@ pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
                 .from_s
                 .or_else(|| crate::analysis::lateral_onset_s(&r.dir))
                 .unwrap_or(series.start_time_s);
-            let g = crate::analysis::growth::band_growth(&series, &bands, from_s, GROWTH_WINDOW_S)?;
+            let g = crate::analysis::growth::band_growth(&series, &bands, from_s, growth_options.window_s)?;
             tables.push_str(&crate::analysis::growth::to_markdown(&g));
             tables.push('\n');
             for b in &g.bands {

@@ -146,6 +146,19 @@ pub enum PeakRanking {
     Height,
 }
 
+impl PeakRanking {
+    /// The command-line / file name of the ranking.
+    pub fn name(self) -> &'static str {
+        match self {
+            PeakRanking::Prominence => "prominence",
+            PeakRanking::Height => "height",
+        }
+    }
+}
+
+/// Default number of peaks a spectrum's summary lists.
+pub const DEFAULT_PEAK_COUNT: usize = 5;
+
 /// What peaks to look for in a spectrum.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PeakSearch {

@@ -12,6 +12,9 @@ use crate::{Error, Result};
 /// Peak level of the written audio as a fraction of full scale (headroom for players).
 pub const PEAK_FRACTION_OF_FULL_SCALE: f64 = 0.9;
 
+/// Default audio sample rate (Hz): the CD rate, which every player plays.
+pub const DEFAULT_SAMPLE_RATE_HZ: u32 = 44_100;
+
 /// Converts a signal to 16-bit audio at `output_rate_hz`: resampled (windowed sinc, see
 /// [`resample`]), mean removed (a displacement's static offset is inaudible but would eat
 /// headroom), scaled so the largest magnitude is [`PEAK_FRACTION_OF_FULL_SCALE`] of 32767.

@@ -40,6 +40,10 @@ use crate::{Error, Result};
 /// within round-off).
 pub const MORLET_OMEGA0: f64 = 6.0;
 
+/// Default scales per octave: 16 voices keep the ridge of a tone within 2 % of its peak power
+/// between scales (the growth analysis relies on it, [`crate::analysis::growth`]).
+pub const DEFAULT_VOICES_PER_OCTAVE: usize = 16;
+
 /// Fourier period / scale for the Morlet wavelet, `4 pi / (w0 + sqrt(2 + w0^2))` (T&C Table 1).
 pub fn morlet_fourier_factor(omega0: f64) -> f64 {
     4.0 * PI / (omega0 + (2.0 + omega0 * omega0).sqrt())

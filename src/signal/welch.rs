@@ -38,6 +38,24 @@ pub enum PsdScaling {
     Spectrum,
 }
 
+impl PsdScaling {
+    /// The command-line / file name of the scaling.
+    pub fn name(self) -> &'static str {
+        match self {
+            PsdScaling::Density => "density",
+            PsdScaling::Spectrum => "spectrum",
+        }
+    }
+}
+
+/// Default segment length of a Welch estimate when none is asked for (shorter signals use
+/// their whole length): 4096 samples give 12 Hz bins at the rolling runs' 50 kHz sampling.
+pub const DEFAULT_NPERSEG: usize = 4096;
+
+/// Default overlap of consecutive segments, as a fraction of the segment (SciPy's default,
+/// `noverlap = nperseg / 2`, as [`WelchParams::new`]).
+pub const DEFAULT_OVERLAP_FRACTION: f64 = 0.5;
+
 /// Parameters of a Welch estimate.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WelchParams {

@@ -40,7 +40,7 @@ impl SweepParameter {
         (SweepParameter::Eta, "eta"),
         (SweepParameter::Xi, "xi"),
         (SweepParameter::Mu, "mu"),
-        (SweepParameter::FrictionSlope, "friction-slope"),
+        (SweepParameter::FrictionSlope, "friction-slope-s-per-m"),
         (SweepParameter::ContactS, "contact-s-mm"),
     ];
 
