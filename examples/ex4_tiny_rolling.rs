@@ -5,7 +5,7 @@
 //! preloads it statically, rolls it and writes a run directory: `histories.csv`,
 //! `contact_forces.csv`, a patch snapshot, `run.json` (where the contact sits, the flange
 //! clearance, the invariants). The demo cases run the same code on finer meshes for 40 ms
-//! (`squeal simulate --scenario data/cases/case3-demo.json --out out/case3`).
+//! (`squeal simulate --case data/cases/case3-demo.json --out out/case3`).
 //!
 //!     cargo run --release --example ex4_tiny_rolling [OUT_DIR]
 

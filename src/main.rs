@@ -85,9 +85,9 @@ fn main() {
     let matches = negative_numbers_as_values(Cli::command()).get_matches();
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     let result: squeal::Result<()> = match cli.command {
-        None => cli::default_run::run(
-            &std::path::Path::new(cli::grammar::REPORTS_ROOT).join("default"),
-        ),
+        None => {
+            cli::default_run::run(&std::path::Path::new(cli::grammar::REPORTS_ROOT).join("default"))
+        }
         Some(Command::Mesh(args)) => cli::mesh::run(args),
         Some(Command::Profile(args)) => cli::profile::run(args),
         Some(Command::Identify(args)) => cli::identify::run_identify(args),

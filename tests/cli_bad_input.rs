@@ -33,11 +33,13 @@ fn fixtures() -> PathBuf {
         ));
     }
     std::fs::write(run.join("histories.csv"), h).unwrap();
+    // A folder that is not a run directory (no histories.csv).
+    std::fs::create_dir_all(dir.join("norun")).unwrap();
     dir
 }
 
 /// Words that state an allowed range, the allowed values or form, or what was expected.
-const RANGE_WORDS: [&str; 15] = [
+const RANGE_WORDS: [&str; 18] = [
     "range",
     "must",
     "allowed",
@@ -53,6 +55,9 @@ const RANGE_WORDS: [&str; 15] = [
     "does not exist",
     "cannot open",
     "without --resume",
+    "cannot be used with",
+    "give one",
+    "bound",
 ];
 
 #[test]
@@ -70,6 +75,7 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let empty = fx.join("empty.csv").display().to_string();
     let bad_json = fx.join("bad.json").display().to_string();
     let run = fx.join("run").display().to_string();
+    let norun = fx.join("norun").display().to_string();
     let missing = fx.join("missing.json").display().to_string();
     let frf = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/fixtures/uff/frf_ascii.uff")
@@ -93,39 +99,18 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let rows: Vec<(Vec<&str>, i32, Vec<&str>)> = vec![
         // psd
         (
-            vec![
-                "psd",
-                "--csv",
-                &s,
-                "--column",
-                "x_m",
-                "--out",
-                "o",
-                "--nperseg",
-                "1",
-            ],
+            vec!["psd", &s, "--column", "x_m", "--out", "o", "--nperseg", "1"],
+            2,
+            vec!["nperseg"],
+        ),
+        (
+            vec!["psd", &s, "--column", "x_m", "--out", "o", "--nperseg", "0"],
             2,
             vec!["nperseg"],
         ),
         (
             vec![
                 "psd",
-                "--csv",
-                &s,
-                "--column",
-                "x_m",
-                "--out",
-                "o",
-                "--nperseg",
-                "0",
-            ],
-            2,
-            vec!["nperseg"],
-        ),
-        (
-            vec![
-                "psd",
-                "--csv",
                 &s,
                 "--column",
                 "x_m",
@@ -138,24 +123,13 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["nperseg"],
         ),
         (
-            vec![
-                "psd",
-                "--csv",
-                &s,
-                "--column",
-                "x_m",
-                "--out",
-                "o",
-                "--overlap",
-                "1",
-            ],
+            vec!["psd", &s, "--column", "x_m", "--out", "o", "--overlap", "1"],
             2,
             vec!["overlap"],
         ),
         (
             vec![
                 "psd",
-                "--csv",
                 &s,
                 "--column",
                 "x_m",
@@ -170,44 +144,39 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         (
             vec![
                 "psd",
-                "--csv",
                 &s,
                 "--column",
                 "x_m",
                 "--out",
                 "o",
-                "--peak-fmax",
+                "--fmax-hz",
                 "20000",
             ],
             2,
-            vec!["--peak-fmax"],
+            vec!["--fmax-hz"],
         ),
         (
             vec![
                 "psd",
-                "--csv",
                 &s,
                 "--column",
                 "x_m",
                 "--out",
                 "o",
-                "--peak-fmin",
+                "--fmin-hz",
                 "-5",
             ],
             2,
-            vec!["--peak-fmin"],
+            vec!["--fmin-hz"],
         ),
         (
-            vec![
-                "psd", "--csv", &s, "--column", "x_m", "--out", "o", "--peaks", "0",
-            ],
+            vec!["psd", &s, "--column", "x_m", "--out", "o", "--peaks", "0"],
             2,
             vec!["--peaks"],
         ),
         (
             vec![
                 "psd",
-                "--csv",
                 &s,
                 "--column",
                 "x_m",
@@ -221,7 +190,7 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         ),
         (
             vec![
-                "psd", "--csv", &s, "--column", "x_m", "--out", "o", "--window", "kaiser",
+                "psd", &s, "--column", "x_m", "--out", "o", "--window", "kaiser",
             ],
             2,
             vec!["window"],
@@ -229,7 +198,6 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         (
             vec![
                 "psd",
-                "--csv",
                 &s,
                 "--column",
                 "x_m",
@@ -244,7 +212,6 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         (
             vec![
                 "psd",
-                "--csv",
                 &s,
                 "--column",
                 "x_m",
@@ -257,36 +224,47 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["scaling"],
         ),
         (
-            vec![
-                "psd", "--csv", &s, "--column", "x_m", "--out", "o", "--rank", "size",
-            ],
+            vec!["psd", &s, "--column", "x_m", "--out", "o", "--rank", "size"],
             2,
             vec!["rank"],
         ),
         (
-            vec!["psd", "--csv", &s, "--column", "y", "--out", "o"],
+            vec!["psd", &s, "--column", "y", "--out", "o"],
             2,
             vec!["s.csv", "available columns: time_s, x_m"],
         ),
         (
-            vec!["psd", "--csv", &empty, "--column", "x_m", "--out", "o"],
+            vec!["psd", &empty, "--column", "x_m", "--out", "o"],
             2,
             vec!["empty.csv", "header"],
         ),
         (
-            vec!["psd", "--csv", &header, "--column", "x_m", "--out", "o"],
+            vec!["psd", &header, "--column", "x_m", "--out", "o"],
             2,
             vec!["header.csv", "samples"],
         ),
         (
-            vec!["psd", "--csv", &missing, "--column", "x_m", "--out", "o"],
+            vec!["psd", &missing, "--column", "x_m", "--out", "o"],
             2,
             vec!["missing.json"],
+        ),
+        (
+            vec!["psd", &norun, "--column", "x_m", "--out", "o"],
+            2,
+            vec!["norun/histories.csv"],
         ),
         // cwt and wav
         (
             vec![
-                "cwt", "--csv", &s, "--column", "x_m", "--out", "o", "--fmin", "100", "--fmax",
+                "cwt",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--fmin-hz",
+                "100",
+                "--fmax-hz",
                 "9000",
             ],
             2,
@@ -294,7 +272,15 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         ),
         (
             vec![
-                "cwt", "--csv", &s, "--column", "x_m", "--out", "o", "--fmin", "-1", "--fmax",
+                "cwt",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--fmin-hz",
+                "-1",
+                "--fmax-hz",
                 "1000",
             ],
             2,
@@ -302,8 +288,18 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         ),
         (
             vec![
-                "cwt", "--csv", &s, "--column", "x_m", "--out", "o", "--fmin", "100", "--fmax",
-                "1000", "--voices", "0",
+                "cwt",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--fmin-hz",
+                "100",
+                "--fmax-hz",
+                "1000",
+                "--voices",
+                "0",
             ],
             2,
             vec!["voices"],
@@ -311,15 +307,14 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         (
             vec![
                 "cwt",
-                "--csv",
                 &s,
                 "--column",
                 "x_m",
                 "--out",
                 "o",
-                "--fmin",
+                "--fmin-hz",
                 "100",
-                "--fmax",
+                "--fmax-hz",
                 "1000",
                 "--time-stride",
                 "0",
@@ -329,31 +324,50 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         ),
         (
             vec![
-                "wav", "--csv", &s, "--column", "x_m", "--out", "o.wav", "--rate", "0",
+                "wav",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--sample-rate-hz",
+                "0",
             ],
             2,
-            vec!["rate"],
+            vec!["--sample-rate-hz", "> 0 Hz"],
         ),
         (
             vec![
-                "wav", "--csv", &s, "--column", "x_m", "--out", "o.wav", "--rate", "-44100",
+                "wav",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--sample-rate-hz",
+                "-44100",
             ],
             2,
-            vec!["rate"],
+            vec!["--sample-rate-hz"],
         ),
         (
-            vec!["wav", "--csv", &s, "--column", "nope", "--out", "o.wav"],
+            vec!["wav", &s, "--column", "nope", "--out", "o"],
             2,
             vec!["nope"],
         ),
         // identify, check-modes, growth, report
         (
-            vec!["identify", &run, "--fmax", "20000", "--out", "o"],
+            vec!["identify", &run, "--fmax-hz", "20000", "--out", "o"],
             2,
             vec!["--fmax", "Nyquist"],
         ),
         (
-            vec!["identify", &run, "--fmin", "-3", "--out", "o"],
+            vec!["identify", &run, "--fmin-hz", "-3", "--out", "o"],
+            2,
+            vec!["fmin"],
+        ),
+        (
+            vec!["identify", &run, "--fmin-hz", "-5", "--out", "o"],
             2,
             vec!["fmin"],
         ),
@@ -368,9 +382,28 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["resolution"],
         ),
         (
-            vec!["identify", &run, "--signal", "nothing", "--out", "o"],
+            vec!["identify", &run, "--column", "nothing", "--out", "o"],
             2,
             vec!["nothing"],
+        ),
+        (
+            vec!["identify", &run, "--direction", "radial", "--out", "o"],
+            2,
+            vec!["radial", "lateral, vertical, longitudinal"],
+        ),
+        (
+            vec![
+                "identify",
+                &run,
+                "--direction",
+                "lateral",
+                "--column",
+                "lateral_rim_velocity_m_per_s",
+                "--out",
+                "o",
+            ],
+            2,
+            vec!["--direction", "--column"],
         ),
         (
             vec!["identify", &missing, "--out", "o"],
@@ -383,9 +416,28 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["--require"],
         ),
         (
-            vec!["check-modes", &run, "--require", "0,3", "--fmax", "99999"],
+            vec![
+                "check-modes",
+                &run,
+                "--require",
+                "0,3",
+                "--fmax-hz",
+                "99999",
+            ],
             2,
             vec!["--fmax"],
+        ),
+        (
+            vec![
+                "check-modes",
+                &run,
+                "--require",
+                "0,3",
+                "--direction",
+                "sideways",
+            ],
+            2,
+            vec!["sideways"],
         ),
         (
             vec!["growth", &run, "--half-width", "0", "--out", "o"],
@@ -403,19 +455,9 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["--mode"],
         ),
         (
-            vec!["report", &run, "--name", "../escape", "--reports", "r"],
+            vec!["report", &run, "--stability", &missing, "--out", "o"],
             2,
-            vec!["--name"],
-        ),
-        (
-            vec!["report", &run, "--name", "a/b", "--reports", "r"],
-            2,
-            vec!["--name"],
-        ),
-        (
-            vec!["report", &run, "--name", "", "--reports", "r"],
-            2,
-            vec!["--name"],
+            vec!["missing.json"],
         ),
         // profile
         (
@@ -496,49 +538,156 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["missing.json"],
         ),
         // kalker
-        (vec!["kalker", "hertz", "--fn", "-1000"], 2, vec!["fn"]),
         (
-            vec!["kalker", "hertz", "--fn", "100000", "--nu", "0.7"],
+            vec!["kalker", "hertz", "--normal-force-n", "-1"],
             2,
-            vec!["nu"],
+            vec!["--normal-force-n", "> 0 N"],
         ),
         (
-            vec!["kalker", "hertz", "--fn", "100000", "--e", "-1"],
+            vec![
+                "kalker",
+                "hertz",
+                "--normal-force-n",
+                "100000",
+                "--poisson-ratio",
+                "0.7",
+            ],
             2,
-            vec!["e"],
+            vec!["--poisson-ratio"],
         ),
         (
-            vec!["kalker", "creep", "--fn", "100000", "--mu", "-0.3"],
+            vec![
+                "kalker",
+                "hertz",
+                "--normal-force-n",
+                "100000",
+                "--poisson-ratio",
+                "0.6",
+            ],
+            2,
+            vec!["--poisson-ratio", "[0, 0.5)"],
+        ),
+        (
+            vec![
+                "kalker",
+                "hertz",
+                "--normal-force-n",
+                "100000",
+                "--youngs-modulus-pa",
+                "-1",
+            ],
+            2,
+            vec!["--youngs-modulus-pa"],
+        ),
+        (
+            vec![
+                "kalker",
+                "hertz",
+                "--normal-force-n",
+                "100000",
+                "--wheel-y-m",
+                "0.05",
+            ],
+            2,
+            vec!["wheel-y"],
+        ),
+        (
+            vec![
+                "kalker",
+                "hertz",
+                "--normal-force-n",
+                "100000",
+                "--wheel-radius-m",
+                "0",
+            ],
+            2,
+            vec!["wheel-radius"],
+        ),
+        (
+            vec![
+                "kalker",
+                "creep",
+                "--normal-force-n",
+                "100000",
+                "--mu",
+                "-0.3",
+            ],
             2,
             vec!["mu"],
         ),
         (
             vec![
-                "kalker", "creep", "--fn", "100000", "--mu", "0.3", "--grid", "1",
+                "kalker",
+                "creep",
+                "--normal-force-n",
+                "100000",
+                "--mu",
+                "0.3",
+                "--grid",
+                "1",
             ],
             2,
             vec!["grid"],
         ),
         (
-            vec!["kalker", "hertz", "--fn", "100000", "--wheel-y", "0.05"],
+            vec![
+                "kalker",
+                "solve",
+                "--normal-force-n",
+                "100000",
+                "--force-x-n",
+                "1000",
+                "--force-y-n",
+                "0",
+                "--mu",
+                "0.3",
+                "--phi-per-m",
+                "NaN",
+            ],
             2,
-            vec!["wheel-y"],
+            vec!["--phi-per-m"],
+        ),
+        (
+            vec![
+                "kalker",
+                "solve",
+                "--normal-force-n",
+                "120000",
+                "--force-x-n",
+                "60000",
+                "--force-y-n",
+                "10000",
+                "--mu",
+                "0.45",
+            ],
+            2,
+            vec!["--force-x-n/--force-y-n"],
         ),
         // mesh, modes, axisym
         (
-            vec!["mesh", "--wheel", &missing, "--out", "o.vtu"],
+            vec!["mesh", "--wheel", &missing, "--out", "o"],
             2,
             vec!["missing.json"],
         ),
         (
-            vec!["mesh", "--wheel", &bad_json, "--out", "o.vtu"],
+            vec!["mesh", "--wheel", &bad_json, "--out", "o"],
             2,
             vec!["bad.json"],
         ),
         (
-            vec!["mesh", "--wheel", &wheel, "--out", "o.stl"],
+            vec!["mesh", "--wheel", &wheel, "--msh", "o.stl"],
             2,
-            vec!["o.stl"],
+            vec!["--msh", "o.stl"],
+        ),
+        (
+            vec!["mesh", "--wheel", &wheel, "--vtu", "o.msh"],
+            2,
+            vec!["--vtu", "o.msh"],
+        ),
+        (
+            vec!["mesh", "--wheel", &wheel, "--out", "a", "--out", "b"],
+            2,
+            vec!["--out", "one output folder"],
         ),
         (
             vec!["modes", "--wheel", &wheel, "--fmax-hz", "-10", "--out", "o"],
@@ -643,16 +792,16 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             2,
             vec!["missing.json"],
         ),
-        // simulate, bench
+        // simulate, bench, stability
         (
-            vec!["simulate", "--scenario", &missing, "--out", "o"],
+            vec!["simulate", "--case", &missing, "--out", "o"],
             2,
             vec!["missing.json"],
         ),
         (
             vec![
                 "simulate",
-                "--scenario",
+                "--case",
                 &case,
                 "--end-time-ms",
                 "-1",
@@ -665,7 +814,7 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         (
             vec![
                 "simulate",
-                "--scenario",
+                "--case",
                 &case,
                 "--end-time-ms",
                 "5000",
@@ -678,7 +827,7 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         (
             vec![
                 "simulate",
-                "--scenario",
+                "--case",
                 &case,
                 "--preload",
                 "sideways",
@@ -689,19 +838,29 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["--preload"],
         ),
         (
-            vec!["simulate", "--scenario", &case, "--resume", "--out", "o"],
+            vec!["simulate", "--case", &case, "--resume", "--out", "o"],
             2,
             vec!["--resume", "checkpoint"],
         ),
         (
-            vec!["simulate", "--scenario", &demo, "--out", "o"],
+            vec!["simulate", "--case", &demo, "--out", "o"],
             2,
             vec!["demo.json"],
         ),
         (
-            vec!["bench", "rolling", "--scenario", &case, "--steps", "0"],
+            vec!["bench", "rolling", "--case", &case, "--steps", "0"],
             2,
             vec!["--steps"],
+        ),
+        (
+            vec!["bench", "rolling", "--case", &missing],
+            2,
+            vec!["missing.json"],
+        ),
+        (
+            vec!["bench", "preload", "--case", &missing],
+            2,
+            vec!["missing.json"],
         ),
         (
             vec!["bench", "modal", "--mtx", &missing, "--slices", "0"],
@@ -713,8 +872,49 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             2,
             vec!["--shift-hz", "(0, fmax = 10000] Hz"],
         ),
+        (
+            vec!["bench", "modal", "--mtx", &missing, "--fmax-hz", "0"],
+            2,
+            vec!["--fmax-hz", "(0, 1e6] Hz"],
+        ),
+        (
+            vec!["stability", "--case", &case, "--time-ms", "3", "--out", "o"],
+            2,
+            vec!["--time-ms", "RUN_DIR"],
+        ),
+        (
+            vec![
+                "stability",
+                "--case",
+                &case,
+                "--normal-force-n",
+                "-1",
+                "--out",
+                "o",
+            ],
+            2,
+            vec!["--normal-force-n", "> 0 N"],
+        ),
+        (
+            vec![
+                "stability",
+                "--case",
+                &case,
+                "--sweep",
+                "friction-slope-s-per-m=0..1:1",
+                "--out",
+                "o",
+            ],
+            2,
+            vec!["--sweep", "friction-slope-s-per-m"],
+        ),
+        (
+            vec!["stability", "--case", &missing, "--out", "o"],
+            2,
+            vec!["missing.json"],
+        ),
     ];
-    assert!(rows.len() >= 60, "{} rows", rows.len());
+    assert!(rows.len() >= 95, "{} rows", rows.len());
     let mut failures = Vec::new();
     for (k, (args, code, words)) in rows.iter().enumerate() {
         let cwd = std::env::temp_dir().join(format!("squeal_bad_input_{k}_{}", std::process::id()));

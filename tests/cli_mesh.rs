@@ -51,7 +51,7 @@ fn expect_input_error(
 ) {
     let dir = temp_dir(tag);
     let (scenario, wheel) = edited_inputs(&dir, which, edit);
-    let out = dir.join("out.vtu");
+    let out = dir.join("out");
     let args: Vec<String> = if which == "wheel" {
         vec![
             "mesh".into(),
@@ -63,7 +63,7 @@ fn expect_input_error(
     } else {
         vec![
             "mesh".into(),
-            "--scenario".into(),
+            "--model".into(),
             scenario.display().to_string(),
             "--out".into(),
             out.display().to_string(),
@@ -228,12 +228,15 @@ fn malformed_json_is_reported_with_its_file() {
     let dir = temp_dir("malformed");
     let path = dir.join("bad.json");
     std::fs::write(&path, "{ \"name\": ").expect("write");
+    let out = dir.join("out");
     let result = squeal()
         .args(["mesh", "--wheel", path.to_str().expect("utf8")])
+        .args(["--out", out.to_str().expect("utf8")])
         .output()
         .expect("run");
     assert_eq!(result.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&result.stderr).contains("bad.json"));
+    assert!(!out.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -241,14 +244,17 @@ fn malformed_json_is_reported_with_its_file() {
 fn mesh_writes_vtu_msh_and_json() {
     let dir = temp_dir("ok");
     let (vtu, msh, json) = (dir.join("w.vtu"), dir.join("w.msh"), dir.join("q.json"));
+    let out = dir.join("mesh");
     let result = squeal()
         .args([
             "mesh",
             "--wheel",
             "data/wheels/ns_intercity_920.json",
             "--out",
+            out.to_str().expect("utf8"),
+            "--vtu",
             vtu.to_str().expect("utf8"),
-            "--out",
+            "--msh",
             msh.to_str().expect("utf8"),
             "--json",
             json.to_str().expect("utf8"),
@@ -269,13 +275,20 @@ fn mesh_writes_vtu_msh_and_json() {
         serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("parse");
     assert_eq!(q["inverted_elements"], 0);
     assert!(vtu.exists() && msh.exists());
+    // The output folder holds mesh.vtu and quality.json (the same report as --json).
+    assert!(out.join("mesh.vtu").exists());
+    let folder_q: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("quality.json")).expect("quality.json"),
+    )
+    .expect("parse");
+    assert_eq!(folder_q, q);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn profiles_print_point_tables() {
     let out = squeal()
-        .args(["profile", "s1002", "--csv", "--step-mm", "1"])
+        .args(["profile", "s1002", "--csv", "-", "--step-mm", "1"])
         .output()
         .expect("run");
     let text = String::from_utf8_lossy(&out.stdout);
@@ -294,8 +307,20 @@ fn profiles_print_point_tables() {
         .find(|r| (r.0 + 55.0).abs() < 1e-9)
         .expect("S = -55 row");
     assert!((tip.1 - 28.0).abs() < 1e-6);
+    // --csv FILE writes the same table and prints the summary instead.
+    let dir = temp_dir("profile-csv");
+    let file = dir.join("s1002.csv");
+    let to_file = squeal()
+        .args(["profile", "s1002", "--step-mm", "1", "--csv"])
+        .arg(&file)
+        .output()
+        .expect("run");
+    assert!(to_file.status.success());
+    assert_eq!(std::fs::read_to_string(&file).expect("csv"), text);
+    assert!(String::from_utf8_lossy(&to_file.stdout).contains("S1002:"));
+    let _ = std::fs::remove_dir_all(&dir);
     let out = squeal()
-        .args(["profile", "54e1", "--csv", "--inclined"])
+        .args(["profile", "54e1", "--csv", "-", "--inclined"])
         .output()
         .expect("run");
     assert!(out.status.success());

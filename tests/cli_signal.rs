@@ -34,7 +34,6 @@ fn psd_cwt_and_wav_write_their_files() {
     let status = squeal()
         .args([
             "psd",
-            "--csv",
             csv.to_str().unwrap(),
             "--column",
             "uy_m",
@@ -58,13 +57,12 @@ fn psd_cwt_and_wav_write_their_files() {
     let status = squeal()
         .args([
             "cwt",
-            "--csv",
             csv.to_str().unwrap(),
             "--column",
             "uy_m",
-            "--fmin",
+            "--fmin-hz",
             "500",
-            "--fmax",
+            "--fmax-hz",
             "3000",
         ])
         .args([
@@ -82,25 +80,46 @@ fn psd_cwt_and_wav_write_their_files() {
     assert!(power.starts_with("time_s,frequency_hz,power_m^2\n"));
     assert!(out.join("cwt_coi.csv").exists() && out.join("cwt.json").exists());
 
-    let wav = dir.join("uy.wav");
+    // --out names the folder; the file is <column>.wav in it.
+    let wav_dir = dir.join("wav");
     let status = squeal()
         .args([
             "wav",
-            "--csv",
             csv.to_str().unwrap(),
             "--column",
             "uy_m",
             "--out",
-            wav.to_str().unwrap(),
+            wav_dir.to_str().unwrap(),
         ])
         .status()
         .unwrap();
     assert!(status.success());
+    let wav = wav_dir.join("uy_m.wav");
     assert_eq!(
         squeal::signal::wav::read_pcm16_wav(&wav)
             .unwrap()
             .sample_rate_hz,
         44_100
+    );
+
+    // SOURCE may be a run directory: its histories.csv is read.
+    let run = dir.join("run");
+    std::fs::create_dir_all(&run).unwrap();
+    std::fs::copy(&csv, run.join("histories.csv")).unwrap();
+    let run_out = dir.join("run-psd");
+    let status = squeal()
+        .args(["psd", run.to_str().unwrap(), "--column", "uy_m"])
+        .args(["--nperseg", "1024", "--out", run_out.to_str().unwrap()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let peaks: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run_out.join("peaks.json")).unwrap())
+            .unwrap();
+    assert!(peaks["source"].as_str().unwrap().ends_with("histories.csv"));
+    assert_eq!(
+        std::fs::read_to_string(run_out.join("psd.csv")).unwrap(),
+        psd
     );
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -116,7 +135,6 @@ fn bad_input_exits_with_code_2_and_says_why() {
         (
             vec![
                 "psd",
-                "--csv",
                 "/nonexistent/file.csv",
                 "--column",
                 "uy_m",
@@ -126,13 +144,12 @@ fn bad_input_exits_with_code_2_and_says_why() {
             "/nonexistent/file.csv",
         ),
         (
-            vec!["psd", "--csv", csv, "--column", "uz_m", "--out", out],
+            vec!["psd", csv, "--column", "uz_m", "--out", out],
             "available columns: time_s, uy_m",
         ),
         (
             vec![
                 "psd",
-                "--csv",
                 csv,
                 "--column",
                 "uy_m",
@@ -146,7 +163,6 @@ fn bad_input_exits_with_code_2_and_says_why() {
         (
             vec![
                 "psd",
-                "--csv",
                 csv,
                 "--column",
                 "uy_m",
@@ -159,7 +175,15 @@ fn bad_input_exits_with_code_2_and_says_why() {
         ),
         (
             vec![
-                "cwt", "--csv", csv, "--column", "uy_m", "--fmin", "10", "--fmax", "5000", "--out",
+                "cwt",
+                csv,
+                "--column",
+                "uy_m",
+                "--fmin-hz",
+                "10",
+                "--fmax-hz",
+                "5000",
+                "--out",
                 out,
             ],
             "Nyquist",

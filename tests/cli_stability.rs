@@ -82,8 +82,14 @@ fn stability_writes_json_csv_and_charts() {
 #[test]
 fn operating_points_outside_the_model_exit_2_with_the_field_and_range() {
     let out = temp_dir("bad");
-    assert_refused(&stability(&["--fn", "0"], &out), &["--fn", "> 0 N"]);
-    assert_refused(&stability(&["--fn=-1e5"], &out), &["--fn", "> 0 N"]);
+    assert_refused(
+        &stability(&["--normal-force-n", "0"], &out),
+        &["--normal-force-n", "> 0 N"],
+    );
+    assert_refused(
+        &stability(&["--normal-force-n=-1e5"], &out),
+        &["--normal-force-n", "> 0 N"],
+    );
     assert_refused(
         &stability(&["--fmax-hz", "20000"], &out),
         &["--fmax-hz", "(0, 10000] Hz"],
@@ -96,18 +102,28 @@ fn operating_points_outside_the_model_exit_2_with_the_field_and_range() {
     let run = synthetic_run(&out);
     let run_s = run.to_str().unwrap();
     assert_refused(
-        &stability(&["--run", run_s, "--time-ms", "25"], &out),
+        &stability(&[run_s, "--time-ms", "25"], &out),
         &["--time-ms", "[10.000, 20.000] ms", "got 25"],
     );
     assert_refused(
-        &stability(&["--run", run_s, "--time-ms", "15"], &out),
+        &stability(&[run_s, "--time-ms", "15"], &out),
         &["normal_force_n", "Fn > 0"],
     );
     // The creep force above the bound: Fn of the case is 120 kN and mu 0.45, so |F| = 60 kN is
     // outside (this one needs the model for Fn; 1 kHz keeps it short).
     assert_refused(
-        &stability(&["--fmax-hz", "1000", "--fx", "60000", "--fy", "0"], &out),
-        &["--fx/--fy", "exceeds mu Fn", "|F| <= mu Fn"],
+        &stability(
+            &[
+                "--fmax-hz",
+                "1000",
+                "--force-x-n",
+                "60000",
+                "--force-y-n",
+                "0",
+            ],
+            &out,
+        ),
+        &["--force-x-n/--force-y-n", "exceeds mu Fn", "|F| <= mu Fn"],
     );
 }
 

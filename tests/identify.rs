@@ -165,7 +165,7 @@ fn check_modes_passes_and_fails_with_reasons() {
         "0,3",
         "--require",
         "0,4",
-        "--signal",
+        "--direction",
         "lateral",
         d,
     ]);
@@ -184,7 +184,7 @@ fn check_modes_passes_and_fails_with_reasons() {
         "0,5",
         "--require",
         "2,7",
-        "--signal",
+        "--direction",
         "lateral",
         d,
     ]);
@@ -196,7 +196,7 @@ fn check_modes_passes_and_fails_with_reasons() {
     let out = temp("check-out");
     let id = squeal(&[
         "identify",
-        "--signal",
+        "--direction",
         "lateral",
         d,
         "--out",
@@ -220,11 +220,11 @@ fn check_modes_bad_input_exits_2() {
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["check-modes", "--require", "0-3", d], "--require"),
         (
-            vec!["check-modes", "--require", "0,3", "--signal", "radial", d],
+            vec!["check-modes", "--require", "0,3", "--column", "radial", d],
             "available: time_s, lateral_velocity_m_per_s",
         ),
         (
-            vec!["check-modes", "--require", "0,3", "--fmax", "20000", d],
+            vec!["check-modes", "--require", "0,3", "--fmax-hz", "20000", d],
             "Nyquist",
         ),
         (

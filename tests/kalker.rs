@@ -408,13 +408,13 @@ fn bad_input_is_reported() {
         HertzContact::wheel_on_rail(0.46, 0.3, 0.0, Material::STEEL)
             .err()
             .unwrap(),
-        "--fn"
+        "--normal-force-n"
     ));
     assert!(is_input(
         HertzContact::wheel_on_rail(0.46, 0.3, -5.0, Material::STEEL)
             .err()
             .unwrap(),
-        "--fn"
+        "--normal-force-n"
     ));
     // Grid too coarse.
     assert!(is_input(
@@ -434,7 +434,7 @@ fn bad_input_is_reported() {
     )
     .err()
     .unwrap();
-    assert!(is_input(error, "--fx/--fy"));
+    assert!(is_input(error, "--force-x-n/--force-y-n"));
     // Non-Hertzian curvature.
     assert!(HertzContact::from_curvatures(1.0, -1.0, 1e3, Material::STEEL).is_err());
 }

@@ -9,18 +9,34 @@ fn squeal(arguments: &[&str]) -> std::process::Output {
         .expect("run squeal")
 }
 
+/// A fresh folder under the system's temporary directory.
+fn temp_dir(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("squeal-kalker-cli-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// The JSON summary a command prints before its closing `wrote DIR` line.
+fn printed_json(stdout: &[u8]) -> serde_json::Value {
+    let text = String::from_utf8_lossy(stdout);
+    let json: Vec<&str> = text
+        .lines()
+        .take_while(|l| !l.starts_with("wrote "))
+        .collect();
+    serde_json::from_str(&json.join("\n")).expect("a JSON summary on standard output")
+}
+
 #[test]
 fn hertz_prints_the_patch() {
     let output = squeal(&[
         "kalker",
         "hertz",
-        "--fn",
+        "--normal-force-n",
         "100e3",
-        "--wheel-radius",
+        "--wheel-radius-m",
         "0.46",
-        "--rail-radius",
+        "--rail-radius-m",
         "0.3",
-        "--json",
     ]);
     assert!(output.status.success());
     let value: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
@@ -34,18 +50,19 @@ fn hertz_prints_the_patch() {
 
 #[test]
 fn force_prescribed_default_mode_with_outputs() {
-    let directory = std::env::temp_dir().join(format!("squeal-kalker-cli-{}", std::process::id()));
+    let directory = temp_dir("solve");
     let output = squeal(&[
         "kalker",
-        "--fn",
+        "solve",
+        "--normal-force-n",
         "120e3",
-        "--fx",
+        "--force-x-n",
         "40e3",
-        "--fy",
+        "--force-y-n",
         "10e3",
         "--mu",
         "0.45",
-        "--wheel-y",
+        "--wheel-y-m",
         "0",
         "--method",
         "fastsim",
@@ -57,7 +74,7 @@ fn force_prescribed_default_mode_with_outputs() {
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    let value: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let value = printed_json(&output.stdout);
     assert!((value["force_x_n"].as_f64().unwrap() - 40e3).abs() < 1e-3);
     assert!(value["xi"].as_f64().unwrap() < 0.0 && value["eta"].as_f64().unwrap() < 0.0);
     assert_eq!(value["unique"], serde_json::Value::Bool(true));
@@ -70,34 +87,85 @@ fn force_prescribed_default_mode_with_outputs() {
 
 #[test]
 fn creepage_prescribed_mode() {
+    // creep writes traction.csv and summary.json (here into a temporary folder).
+    let directory = temp_dir("creep");
     let output = squeal(&[
-        "kalker", "creep", "--fn", "100e3", "--xi", "1e-3", "--mu", "0.3", "--grid", "30",
+        "kalker",
+        "creep",
+        "--normal-force-n",
+        "100e3",
+        "--xi",
+        "1e-3",
+        "--mu",
+        "0.3",
+        "--grid",
+        "30",
+        "--out",
+        directory.to_str().unwrap(),
     ]);
     assert!(
         output.status.success(),
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    let value: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let value = printed_json(&output.stdout);
     assert!(value["force_x_n"].as_f64().unwrap() < 0.0);
+    assert!(directory.join("traction.csv").exists() && directory.join("summary.json").exists());
+    std::fs::remove_dir_all(&directory).ok();
 }
 
 #[test]
 fn bad_input_exits_with_code_2() {
     for arguments in [
         &[
-            "kalker", "--fn", "120e3", "--fx", "40e3", "--fy", "10e3", "--mu", "0",
+            "kalker",
+            "solve",
+            "--normal-force-n",
+            "120e3",
+            "--force-x-n",
+            "40e3",
+            "--force-y-n",
+            "10e3",
+            "--mu",
+            "0",
         ][..],
         &[
-            "kalker", "--fn", "-1", "--fx", "40e3", "--fy", "10e3", "--mu", "0.45",
+            "kalker",
+            "solve",
+            "--normal-force-n",
+            "-1",
+            "--force-x-n",
+            "40e3",
+            "--force-y-n",
+            "10e3",
+            "--mu",
+            "0.45",
         ][..],
         &[
-            "kalker", "--fn", "120e3", "--fx", "60e3", "--fy", "10e3", "--mu", "0.45",
+            "kalker",
+            "solve",
+            "--normal-force-n",
+            "120e3",
+            "--force-x-n",
+            "60e3",
+            "--force-y-n",
+            "10e3",
+            "--mu",
+            "0.45",
         ][..],
         &[
-            "kalker", "creep", "--fn", "100e3", "--xi", "1e-3", "--mu", "0.3", "--grid", "4",
+            "kalker",
+            "creep",
+            "--normal-force-n",
+            "100e3",
+            "--xi",
+            "1e-3",
+            "--mu",
+            "0.3",
+            "--grid",
+            "4",
         ][..],
-        &["kalker", "hertz", "--fn", "0"][..],
+        &["kalker", "hertz", "--normal-force-n", "0"][..],
     ] {
         let output = squeal(arguments);
         assert_eq!(

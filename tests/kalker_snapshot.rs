@@ -226,7 +226,7 @@ fn compare_command_writes_maps_and_rejects_bad_snapshots() {
             .expect("parse");
     assert!((summary["eta"].as_f64().expect("eta") + 1e-3).abs() < 1e-6);
     assert!(out.join("patch_fe.png").exists() && out.join("patch_kalker.png").exists());
-    // Without --phi the command takes the spin from the snapshot's contact normal: a
+    // Without --phi-per-m the command takes the spin from the snapshot's contact normal: a
     // snapshot of Kalker's solution with the spin sin(gamma) / R comes back with its eta.
     let sine = -0.078;
     let mut spun = snapshot_from_kalker(-1e-3, -0.5e-3, sine / 0.46);
@@ -251,7 +251,7 @@ fn compare_command_writes_maps_and_rejects_bad_snapshots() {
     // The profile gap needs the wheel position and the exact method.
     for extra in [
         vec!["--profile-gap"],
-        vec!["--profile-gap", "--wheel-y=0", "--method", "fastsim"],
+        vec!["--profile-gap", "--wheel-y-m=0", "--method", "fastsim"],
     ] {
         let refused = std::process::Command::new(env!("CARGO_BIN_EXE_squeal"))
             .args(["kalker", "compare", "--snapshot"])
@@ -268,7 +268,7 @@ fn compare_command_writes_maps_and_rejects_bad_snapshots() {
     let nan = std::process::Command::new(env!("CARGO_BIN_EXE_squeal"))
         .args(["kalker", "compare", "--snapshot"])
         .arg(&spun_path)
-        .args(["--phi", "NaN", "--grid", "40", "--out"])
+        .args(["--phi-per-m", "NaN", "--grid", "40", "--out"])
         .arg(&out)
         .output()
         .expect("run");

@@ -499,7 +499,7 @@ fn bench_modal_matches_modes_on_exported_wheel_and_mesh_cli_runs() {
         .unwrap();
     assert!(st.success());
     let bench = Command::new(env!("CARGO_BIN_EXE_squeal"))
-        .args(["bench", "modal", "--fmax", "1200", "--mtx"])
+        .args(["bench", "modal", "--fmax-hz", "1200", "--mtx"])
         .arg(&mtx)
         .output()
         .unwrap();

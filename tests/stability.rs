@@ -716,7 +716,7 @@ fn explicit_slider_on_a_falling_friction_belt_grows_at_the_predicted_rate() {
     );
 }
 
-/// The demo80 runs (`squeal simulate --scenario data/cases/caseN-demo80.json --out
+/// The demo80 runs (`squeal simulate --case data/cases/caseN-demo80.json --out
 /// DIR/caseN-demo80`, 80 ms on the demo80 meshes, 11-17 minutes each): read from the directory
 /// `SQUEAL_DEMO80_RUNS` names, else run here into a temporary directory.
 fn demo80_run(case: &str) -> std::path::PathBuf {

@@ -49,6 +49,7 @@ pub struct Renamed {
 
 /// Every option renamed by the grammar (issue 52). Clap accepts the old names as hidden
 /// aliases; this table makes them print their note. Remove both in the next release.
+#[rustfmt::skip]
 pub const RENAMED: &[Renamed] = &[
     Renamed { command: &["simulate"], old: "--scenario", new: "--case" },
     Renamed { command: &["bench", "rolling"], old: "--scenario", new: "--case" },
@@ -88,7 +89,11 @@ pub fn note(old: &str, new: &str) {
 /// The command path of a command line: the first word that is not an option, and for
 /// `kalker` and `bench` the second when it names a subcommand.
 fn command_path(args: &[String]) -> Vec<String> {
-    let words: Vec<&String> = args.iter().skip(1).filter(|a| !a.starts_with('-')).collect();
+    let words: Vec<&String> = args
+        .iter()
+        .skip(1)
+        .filter(|a| !a.starts_with('-'))
+        .collect();
     let mut path = Vec::new();
     if let Some(first) = words.first() {
         path.push(first.to_string());
@@ -111,8 +116,8 @@ pub fn deprecated_in(args: &[String]) -> Vec<(&'static str, &'static str)> {
     let path = command_path(args);
     let mut found: Vec<(&str, &str)> = Vec::new();
     for r in RENAMED {
-        let applies = r.command.iter().zip(path.iter()).all(|(a, b)| a == b)
-            && path.len() >= r.command.len();
+        let applies =
+            r.command.iter().zip(path.iter()).all(|(a, b)| a == b) && path.len() >= r.command.len();
         if !applies {
             continue;
         }
@@ -177,7 +182,10 @@ mod tests {
             out_dir(None, "kalker/creep", "").to_str(),
             Some("out/kalker/creep")
         );
-        assert_eq!(input_name(Path::new("data/cases/case3-demo.json")), "case3-demo");
+        assert_eq!(
+            input_name(Path::new("data/cases/case3-demo.json")),
+            "case3-demo"
+        );
         assert_eq!(input_name(Path::new("src")), "src");
         assert_eq!(input_name(Path::new(".")), "input");
     }

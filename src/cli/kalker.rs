@@ -87,7 +87,12 @@ struct CompareArgs {
 #[derive(Args, Debug, Clone)]
 struct ContactArgs {
     /// Normal force Fn (N).
-    #[arg(long = "normal-force-n", alias = "fn", value_name = "N", allow_hyphen_values = true)]
+    #[arg(
+        long = "normal-force-n",
+        alias = "fn",
+        value_name = "N",
+        allow_hyphen_values = true
+    )]
     normal_force_n: Option<f64>,
     /// Wheel rolling radius (m); flat tread assumed.
     #[arg(long = "wheel-radius-m", alias = "wheel-radius", default_value_t = DEFAULT_WHEEL_RADIUS_M, allow_hyphen_values = true)]
@@ -252,7 +257,10 @@ fn run_hertz(args: HertzArgs) -> Result<()> {
             super::mesh::write_json(&path, &hertz_json(&hertz))?;
             println!("wrote {}", path.display());
         }
-        Some(None) => note("--json (no value)", "nothing (the JSON is printed) or --json FILE"),
+        Some(None) => note(
+            "--json (no value)",
+            "nothing (the JSON is printed) or --json FILE",
+        ),
         None => {}
     }
     Ok(())
@@ -441,7 +449,11 @@ fn run_compare(args: CompareArgs) -> Result<()> {
         .iter()
         .map(|p| p.pressure_pa)
         .fold(0.0, f64::max);
-    let out = out_dir(args.out.clone(), "kalker/compare", &input_name(&args.snapshot));
+    let out = out_dir(
+        args.out.clone(),
+        "kalker/compare",
+        &input_name(&args.snapshot),
+    );
     let stage = StagedDir::new(&out)?;
     squeal::report::kalker_charts::write_comparison_charts(&snapshot, &cmp, stage.path())?;
     let summary = json!({

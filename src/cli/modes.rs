@@ -194,7 +194,12 @@ pub fn run(args: ModesArgs) -> Result<()> {
     let out = out_dir(
         args.out.clone(),
         "modes",
-        &input_name(args.wheel.as_ref().or(args.mesh.as_ref()).expect("clap group")),
+        &input_name(
+            args.wheel
+                .as_ref()
+                .or(args.mesh.as_ref())
+                .expect("clap group"),
+        ),
     );
     let stage = StagedDir::new(&out)?;
     write_outputs(

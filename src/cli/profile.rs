@@ -23,7 +23,10 @@ impl TableTarget {
         match csv {
             None => TableTarget::Summary,
             Some(None) => {
-                note("--csv (no value)", "--csv - (standard output) or --csv FILE");
+                note(
+                    "--csv (no value)",
+                    "--csv - (standard output) or --csv FILE",
+                );
                 TableTarget::Stdout
             }
             Some(Some(p)) if p.as_os_str() == "-" => TableTarget::Stdout,

@@ -43,20 +43,26 @@ impl InputArgs {
         match (&self.source, &self.csv) {
             (Some(source), _) if source.is_dir() => source.join("histories.csv"),
             (Some(source), _) => source.clone(),
-            (None, Some(csv)) => {
-                note("--csv FILE", "FILE (a positional SOURCE)");
-                csv.clone()
-            }
+            (None, Some(csv)) => csv.clone(),
             (None, None) => unreachable!("clap's group requires SOURCE or --csv"),
         }
     }
 
     /// The name of the input for a default output folder.
     fn name(&self) -> String {
-        input_name(self.source.as_ref().or(self.csv.as_ref()).expect("one input"))
+        input_name(
+            self.source
+                .as_ref()
+                .or(self.csv.as_ref())
+                .expect("one input"),
+        )
     }
 
+    /// Reads the column (each command once; the deprecated `--csv FILE` says so here, once).
     fn read(&self) -> Result<TimeSeries> {
+        if self.source.is_none() && self.csv.is_some() {
+            note("--csv FILE", "FILE (a positional SOURCE)");
+        }
         TimeSeries::from_csv(&self.csv_path(), &self.column)
     }
 
@@ -383,6 +389,14 @@ pub fn run_cwt(args: CwtArgs) -> Result<()> {
 /// `squeal wav`.
 pub fn run_wav(args: WavArgs) -> Result<()> {
     let series = args.input.read()?;
+    // Checked before the output folder is made: a refused rate leaves nothing behind.
+    if args.sample_rate_hz == 0 {
+        return Err(Error::input(
+            "command line",
+            "--sample-rate-hz",
+            format!("must be > 0 Hz, e.g. {DEFAULT_SAMPLE_RATE_HZ}"),
+        ));
+    }
     // The previous release took the WAV file itself in --out: still accepted, with the note.
     let file = match &args.out {
         Some(out) if out.extension().is_some_and(|e| e == "wav") => {
@@ -396,7 +410,12 @@ pub fn run_wav(args: WavArgs) -> Result<()> {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
     let count = write_file_staged(&file, |p| {
-        write_wav(p, &series.values, series.sample_rate_hz, args.sample_rate_hz)
+        write_wav(
+            p,
+            &series.values,
+            series.sample_rate_hz,
+            args.sample_rate_hz,
+        )
     })
     .map_err(|e| args.input.in_context(e))?;
     println!(

@@ -58,10 +58,20 @@ pub struct StabilityArgs {
     pub normal_force_n: Option<f64>,
     /// Prescribe the creep forces Fx, Fy (N, both): the creepages then come from Kalker's
     /// exact theory (as CONTACT does).
-    #[arg(long = "force-x-n", alias = "fx", requires = "force_y_n", allow_negative_numbers = true)]
+    #[arg(
+        long = "force-x-n",
+        alias = "fx",
+        requires = "force_y_n",
+        allow_negative_numbers = true
+    )]
     pub force_x_n: Option<f64>,
     /// See --force-x-n.
-    #[arg(long = "force-y-n", alias = "fy", requires = "force_x_n", allow_negative_numbers = true)]
+    #[arg(
+        long = "force-y-n",
+        alias = "fy",
+        requires = "force_x_n",
+        allow_negative_numbers = true
+    )]
     pub force_y_n: Option<f64>,
     /// Lateral creepage of a case-file operating point (default 0.0018, signed as the lateral
     /// motion), or an override of the run's.
@@ -74,7 +84,11 @@ pub struct StabilityArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub mu: Option<f64>,
     /// Override the falling-friction slope dmu/dv (s/m; negative for falling friction).
-    #[arg(long = "friction-slope-s-per-m", alias = "friction-slope", allow_negative_numbers = true)]
+    #[arg(
+        long = "friction-slope-s-per-m",
+        alias = "friction-slope",
+        allow_negative_numbers = true
+    )]
     pub friction_slope_s_per_m: Option<f64>,
     /// Override the contact position on the wheel tread (profile coordinate S, mm).
     #[arg(long, allow_negative_numbers = true)]
@@ -247,7 +261,10 @@ pub fn run(args: StabilityArgs) -> Result<()> {
         .as_deref()
         .map(|text| match text.strip_prefix("friction-slope=") {
             Some(range) => {
-                note("--sweep friction-slope=...", "--sweep friction-slope-s-per-m=...");
+                note(
+                    "--sweep friction-slope=...",
+                    "--sweep friction-slope-s-per-m=...",
+                );
                 parse_sweep(&format!("friction-slope-s-per-m={range}"))
             }
             None => parse_sweep(text),

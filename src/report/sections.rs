@@ -31,7 +31,6 @@ const SQUEAL_BANDS: [(u32, u32, &str); 3] = [
     (0, 4, "rim_point_minus_mean_lateral_velocity_m_per_s"),
 ];
 
-
 /// Wavelet power of one signal as a heatmap (time in ms, frequency log axis, COI overlay).
 fn wavelet_chart(
     title: &str,
@@ -704,7 +703,11 @@ pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
             if r.histories.column(column).is_none() {
                 continue;
             }
-            let Ok(bands) = crate::analysis::growth::bands_for_modes(modes, &[(m, n)], growth_options.half_width) else {
+            let Ok(bands) = crate::analysis::growth::bands_for_modes(
+                modes,
+                &[(m, n)],
+                growth_options.half_width,
+            ) else {
                 continue;
             };
             let series = crate::analysis::growth::read_column(&r.dir, column)?;
@@ -712,7 +715,12 @@ pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
                 .from_s
                 .or_else(|| crate::analysis::lateral_onset_s(&r.dir))
                 .unwrap_or(series.start_time_s);
-            let g = crate::analysis::growth::band_growth(&series, &bands, from_s, growth_options.window_s)?;
+            let g = crate::analysis::growth::band_growth(
+                &series,
+                &bands,
+                from_s,
+                growth_options.window_s,
+            )?;
             tables.push_str(&crate::analysis::growth::to_markdown(&g));
             tables.push('\n');
             for b in &g.bands {
