@@ -4,45 +4,13 @@
 //! Layout of `out_dir`: `index.html` / `index.md` (the report over the run), `runs/<case>/`
 //! (the run directory: histories, contact forces, patches, energy, `modes.json`).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use serde::Serialize;
 
 use crate::report::run_report::build_report;
 use crate::rolling::{simulate, LoadedCase, SimulateOptions};
 use crate::{Error, Result};
-
-/// A stage that writes `modes.json` into the run directory it is given.
-pub type ModesStage = dyn Fn(&Path) -> Result<()>;
-
-/// The modes stage by the axisymmetric solver (harmonics 0..12, below 10 kHz) on `wheel`:
-/// writes `modes.json` (ModeRef-compatible entries) into the run directory.
-///
-/// The wheel is clamped at both axle end faces: in the rolling model those faces are one rigid
-/// body that cannot move laterally (its lateral motion is prescribed) nor turn except about
-/// the axle, which is what fixes the modes with 0 and 1 nodal diameters (the free wheelset's
-/// rigid and low axial modes become the (0,0) axial mode at 229 Hz, which the demo cases'
-/// lateral vibration shows at 227-234 Hz). Modes with 2 or more nodal diameters do not move
-/// the axle and are the same either way.
-pub fn axisym_modes_stage(wheel: crate::input::wheel::WheelSpec) -> Box<ModesStage> {
-    Box::new(move |dir: &Path| -> Result<()> {
-        use crate::modal::axisym::{
-            solve, AxisymModel, AxisymOptions, WheelClamp, WheelModelOptions,
-        };
-        let model = AxisymModel::from_wheel(
-            &wheel,
-            WheelModelOptions {
-                without_axle: false,
-                clamp: WheelClamp::AxleEnds,
-            },
-        )?;
-        let result = solve(&model, &AxisymOptions::default())?;
-        let path = dir.join("modes.json");
-        let text = serde_json::to_string_pretty(&result.modes)
-            .map_err(|e| Error::Numerical(format!("encoding modes.json: {e}")))?;
-        std::fs::write(&path, text).map_err(|e| Error::io(&path, e))
-    })
-}
 
 /// Options of [`run_pipeline`].
 #[derive(Clone, Debug)]
@@ -68,13 +36,9 @@ pub struct PipelineSummary {
     pub stage_wall_s: Vec<(String, f64)>,
 }
 
-/// Runs the case (replacing an earlier run of it in the report folder), the wheel modes
-/// (`modes` writes `modes.json` into the run directory; may be None) and the report.
-pub fn run_pipeline(
-    case: &LoadedCase,
-    modes: Option<&ModesStage>,
-    opts: &PipelineOptions,
-) -> Result<PipelineSummary> {
+/// Runs the case (replacing an earlier run of it in the report folder; the run writes its
+/// wheel modes, [`crate::rolling::wheel_modes`]) and the report.
+pub fn run_pipeline(case: &LoadedCase, opts: &PipelineOptions) -> Result<PipelineSummary> {
     let run_dir = opts.out_dir.join("runs").join(&case.case.name);
     let mut stages = Vec::new();
     let t = std::time::Instant::now();
@@ -89,12 +53,10 @@ pub fn run_pipeline(
             ..SimulateOptions::new(run_dir.clone())
         },
     )?;
-    stages.push(("rolling simulation".to_string(), t.elapsed().as_secs_f64()));
-    if let Some(f) = modes {
-        let t = std::time::Instant::now();
-        f(&run_dir)?;
-        stages.push(("wheel modes".to_string(), t.elapsed().as_secs_f64()));
-    }
+    stages.push((
+        "wheel modes and rolling simulation".to_string(),
+        t.elapsed().as_secs_f64(),
+    ));
     if record.run.status != "completed" {
         return Err(Error::Numerical(format!(
             "the default case stopped: {} (output kept in {})",

@@ -226,6 +226,16 @@ fn sigterm_stops_with_a_checkpoint_and_resume_goes_on() {
     let stopped_at_s = record["time_s"].as_f64().unwrap();
     assert!(stopped_at_s > 0.0 && stopped_at_s < 0.05, "{stopped_at_s}");
     assert!(out.join("checkpoint.bin").exists());
+    // The run wrote its wheel modes when it started: the axisymmetric modes of the case's
+    // wheel held at its axle ends (no rigid mode), with the (0,3) axial mode squeal needs.
+    let modes_path = out.join("modes.json");
+    let modes = read_json(&modes_path);
+    let modes = modes.as_array().expect("modes.json is an array");
+    assert!(modes.iter().all(|m| m["family"] != "rigid"), "rigid modes");
+    assert!(modes
+        .iter()
+        .any(|m| m["family"] == "axial" && m["nodal_circles"] == 0 && m["nodal_diameters"] == 3));
+    let modes_written = std::fs::metadata(&modes_path).unwrap().modified().unwrap();
     let first = read_json(&out.join("run.json"));
     assert!(
         !first["static_preload"].is_null() || !first["preload"].is_null(),
@@ -238,6 +248,21 @@ fn sigterm_stops_with_a_checkpoint_and_resume_goes_on() {
     let record = read_json(&out.join("status.json"));
     assert_eq!(record["status"], "completed", "{record}");
     assert_samples_without_gap_or_repeat(&out, end_ms);
+    // The resume kept the modes of the first segment, and the analysis reads the run
+    // directory as the run left it.
+    let modes_kept = std::fs::metadata(&modes_path).unwrap().modified().unwrap();
+    assert_eq!(modes_kept, modes_written);
+    let identify = squeal()
+        .args(["identify", "--peaks", "2", "--from-ms", "0", "--out"])
+        .arg(dir.join("identify"))
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        identify.status.success(),
+        "{}",
+        String::from_utf8_lossy(&identify.stderr)
+    );
     // The resume's run.json keeps the whole run's record (src/rolling/record.rs): the preload
     // and the loaded wheel from the first segment, which the resume neither runs nor measures,
     // extremes over both segments, and both segments listed.
@@ -483,10 +508,10 @@ fn runs_and_reports_are_never_overwritten_or_misplaced() {
         "{}",
         String::from_utf8_lossy(&replaced.stderr)
     );
-    assert!(
-        !run.join("modes.json").exists(),
-        "the old run's file stayed"
-    );
+    // The old run's modes.json was replaced by the new run's (it writes its wheel's modes when
+    // it starts), not kept.
+    let modes = std::fs::read_to_string(run.join("modes.json")).unwrap();
+    assert_ne!(modes.trim(), "[]", "the old run's file stayed");
     assert!(run.join("histories.csv").exists());
 
     let fresh = dir.join("never");

@@ -11,10 +11,8 @@ fn reduced_default_run_writes_a_complete_report() {
     let case = load_case(Path::new("data/cases/case3-ci.json")).unwrap();
     let dir = std::env::temp_dir().join(format!("squeal_pipeline_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let modes = squeal::pipeline::axisym_modes_stage(case.scenario.wheel.clone());
     let summary = run_pipeline(
         &case,
-        Some(modes.as_ref()),
         &PipelineOptions {
             out_dir: dir.clone(),
             end_time_s: None,
@@ -75,11 +73,9 @@ fn full_default_run() {
     let case = squeal::rolling::embedded_default_case().unwrap();
     let dir = std::env::temp_dir().join(format!("squeal_default_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let modes = squeal::pipeline::axisym_modes_stage(case.scenario.wheel.clone());
     let started = std::time::Instant::now();
     let summary = run_pipeline(
         &case,
-        Some(modes.as_ref()),
         &PipelineOptions {
             out_dir: dir.clone(),
             end_time_s: None,

@@ -143,7 +143,7 @@ pub fn resolve_column(path: &Path, signal: &str) -> Result<String> {
         1 => Ok(matches[0].clone()),
         0 => Err(Error::input(
             path.display().to_string(),
-            "--signal",
+            "--direction/--column",
             format!(
                 "no column `{signal}` or `{prefix}*`; available: {}",
                 headers.join(", ")
@@ -151,7 +151,7 @@ pub fn resolve_column(path: &Path, signal: &str) -> Result<String> {
         )),
         _ => Err(Error::input(
             path.display().to_string(),
-            "--signal",
+            "--direction/--column",
             format!(
                 "`{signal}` is ambiguous ({}); give the exact column name",
                 matches
@@ -183,7 +183,7 @@ pub fn analyse_run(run_dir: &Path, options: &AnalysisOptions) -> Result<RunAnaly
     }
     let column = resolve_column(&histories, &options.signal)?;
     let direction = Direction::from_signal_name(&column).ok_or_else(|| {
-        Error::input(histories.display().to_string(), "--signal", format!("column `{column}` does not start with lateral, vertical or longitudinal, so its modes cannot be chosen"))
+        Error::input(histories.display().to_string(), "--column", format!("column `{column}` does not start with lateral, vertical or longitudinal, so its modes cannot be chosen"))
     })?;
     let series = TimeSeries::from_csv(&histories, &column)?;
     let nyquist = 0.5 * series.sample_rate_hz;
@@ -195,15 +195,15 @@ pub fn analyse_run(run_dir: &Path, options: &AnalysisOptions) -> Result<RunAnaly
     if !(f_lo >= 0.0 && f_hi > f_lo) {
         return Err(Error::input(
             "command line",
-            "--fmin/--fmax",
+            "--fmin-hz/--fmax-hz",
             format!("need 0 <= fmin < fmax, got [{f_lo}, {f_hi}]"),
         ));
     }
     if f_hi > nyquist {
         return Err(Error::input(
             histories.display().to_string(),
-            "--fmax",
-            format!("{f_hi} Hz is outside the allowed range (fmin, {nyquist:.1}] Hz: the Nyquist frequency of the {:.1} Hz sampled history; lower --fmax or sample faster", series.sample_rate_hz),
+            "--fmax-hz",
+            format!("{f_hi} Hz is outside the allowed range (fmin, {nyquist:.1}] Hz: the Nyquist frequency of the {:.1} Hz sampled history; lower --fmax-hz or sample faster", series.sample_rate_hz),
         ));
     }
     let (from_s, start_from) = match options.from_s {
@@ -255,7 +255,7 @@ pub fn analyse_run(run_dir: &Path, options: &AnalysisOptions) -> Result<RunAnaly
             "no modal results: run `squeal modes ... --out RUN_DIR` or pass --modes FILE",
         ));
     }
-    let modes: Vec<ModeRef> = read_json(&modes_path)?;
+    let modes: Vec<ModeRef> = crate::modal::mode::read_modes_json(&modes_path)?;
     // The rim point less the rim mean has no rim-mean part by construction: ratio 0, so that
     // its peaks get only modes with nodal diameters the mean cancels.
     let ratios: Option<Vec<f64>> = if column.starts_with("rim_point_minus_mean_") {

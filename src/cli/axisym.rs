@@ -262,10 +262,7 @@ fn write_outputs(
         Some(&dir.join("modal_chart.png")),
         Some(&dir.join("modal_chart.svg")),
     )?;
-    let json_path = dir.join("modes.json");
-    let text = serde_json::to_string_pretty(&res.modes)
-        .map_err(|e| Error::Numerical(format!("encoding modes.json: {e}")))?;
-    std::fs::write(&json_path, text).map_err(|e| Error::io(&json_path, e))?;
+    squeal::modal::mode::write_modes_json(dir, &res.modes)?;
     let h_path = dir.join("harmonics.json");
     let text = serde_json::to_string_pretty(&res.harmonics)
         .map_err(|e| Error::Numerical(format!("encoding harmonics.json: {e}")))?;

@@ -26,7 +26,6 @@ pub fn run(out_dir: &Path) -> Result<()> {
     );
     let summary = squeal::pipeline::run_pipeline(
         &case,
-        Some(squeal::pipeline::axisym_modes_stage(case.scenario.wheel.clone()).as_ref()),
         &squeal::pipeline::PipelineOptions {
             out_dir: out_dir.to_path_buf(),
             end_time_s: None,

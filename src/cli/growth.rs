@@ -76,7 +76,7 @@ pub fn run(args: GrowthArgs) -> Result<()> {
             "no modal results: run `squeal axisym ... --out RUN_DIR` first",
         ));
     }
-    let modes: Vec<ModeRef> = squeal::input::read_json(&modes_path)?;
+    let modes: Vec<ModeRef> = squeal::modal::mode::read_modes_json(&modes_path)?;
     let bands = bands_for_modes(&modes, &labels, args.half_width)?;
     let series = read_column(&args.run_dir, &args.column)?;
     let from_s = match args.from_ms {

@@ -328,9 +328,7 @@ fn write_outputs(
     write_vtu: impl FnOnce(&Path, &[vtu::PointVectorField]) -> Result<()>,
 ) -> Result<()> {
     let refs: Vec<_> = records.iter().map(|r| r.mode_ref()).collect();
-    let json = serde_json::to_string_pretty(&refs).expect("serialisable");
-    let p = dir.join("modes.json");
-    std::fs::write(&p, json).map_err(|e| Error::io(&p, e))?;
+    squeal::modal::mode::write_modes_json(dir, &refs)?;
     let p = dir.join("modes_detail.json");
     let json = serde_json::to_string_pretty(&records).expect("serialisable");
     std::fs::write(&p, json).map_err(|e| Error::io(&p, e))?;

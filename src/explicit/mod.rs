@@ -28,6 +28,7 @@ pub mod levels;
 pub mod linearised;
 pub mod model;
 pub mod multirate;
+mod node_update;
 pub mod phase_clock;
 pub mod preload;
 mod rigid_body;

@@ -38,6 +38,7 @@ use super::element::{
 };
 use super::levels::LevelWork;
 use super::model::{Elements, Model, MotionKind};
+use super::node_update::NodeUpdate;
 use super::phase_clock::{PhaseClock, StepPhase};
 use super::rotation::{cross, dot, mat_mul, mat_vec, transpose};
 pub use super::state::{EnergyReport, OutputFields, RigidState, WorkTotals};
@@ -49,13 +50,7 @@ pub use crate::mesh::quality::COURANT_FACTOR;
 
 /// Elements per colouring block.
 pub(super) const BLOCK_ELEMENTS: usize = 256;
-/// Nodes per chunk of the node loops (fixed, so sums do not depend on the thread count).
-pub(super) const NODE_CHUNK: usize = 2048;
-
-/// Node role bits.
-pub(super) const ROLE_SLAVE: u8 = 1 << 6;
-pub(super) const ROLE_RIGID: u8 = 1 << 7;
-pub(super) const PRESCRIBED_SHIFT: u8 = 3;
+pub(super) use super::node_update::{NODE_CHUNK, PRESCRIBED_SHIFT, ROLE_RIGID, ROLE_SLAVE};
 
 /// The central-difference solver.
 pub struct Solver {
@@ -519,9 +514,11 @@ impl Solver {
     /// One central-difference step. `output` fills [`Solver::output`] with the state of t_n;
     /// `energy` also makes the energy report of t_n (returned by [`Solver::last_energy`]).
     ///
-    /// Kept in one piece: one central-difference step in the order of the update; its loops stay
-    /// inline so that nothing allocates and the order of floating-point operations is fixed
-    /// (results independent of the thread count).
+    /// Phases, in the order of the update: the forces of t_n and the prescribed velocities of
+    /// t_{n+1/2} ([`Self::prepare_step`]); the nodes ([`Self::update_nodes`]); the rigid
+    /// bodies, the tie slaves and the springs' and loads' work ([`Self::finish_step`]). None of
+    /// them allocates, and each keeps its order of floating-point operations, so the results do
+    /// not depend on the thread count.
     pub fn step_with<A: AuxForces + ?Sized>(
         &mut self,
         aux: &mut A,
@@ -529,11 +526,29 @@ impl Solver {
         energy: bool,
     ) -> Result<()> {
         let output = output || energy;
-        let dt = self.dt_s;
-        let t = self.time_s;
-        let t_next = t + dt;
+        let (t, dt) = (self.time_s, self.dt_s);
         // What the caller did since the last step.
         self.lap(StepPhase::Other);
+        self.prepare_step(aux, t, dt, energy)?;
+        self.lap(StepPhase::Other);
+        let (inc, kinetic) = self.update_nodes(dt, output, energy);
+        self.finish_step(t, dt, output, energy, inc, kinetic);
+        self.time_s = t + dt;
+        self.step += 1;
+        self.lap(StepPhase::Other);
+        Ok(())
+    }
+
+    /// The forces of t_n (elements, auxiliary forces), the check that auxiliary forces act
+    /// only on declared nodes (energy steps), the prescribed velocities of t_{n+1/2}, and the
+    /// velocities v_{n-1/2} of the nodes that springs and loads act on (for their work).
+    fn prepare_step<A: AuxForces + ?Sized>(
+        &mut self,
+        aux: &mut A,
+        t: f64,
+        dt: f64,
+        energy: bool,
+    ) -> Result<()> {
         self.gather_forces(aux, t, dt);
         if energy {
             if let Some(nd) = self.aux_forces_outside_declared() {
@@ -544,196 +559,68 @@ impl Solver {
                 )));
             }
         }
-        // Prescribed velocities of t_{n+1/2}.
         for pm in &self.model.prescribed {
             let vel = match pm.kind {
                 MotionKind::Velocity => pm.curve.value(t + 0.5 * dt),
-                MotionKind::Displacement => (pm.curve.value(t_next) - pm.curve.value(t)) / dt,
+                MotionKind::Displacement => (pm.curve.value(t + dt) - pm.curve.value(t)) / dt,
             };
             for &nd in &pm.nodes {
                 self.prescribed_velocity[nd][pm.direction] = vel;
             }
         }
-        // Velocities v_{n-1/2} of the nodes that springs and loads act on, for their work.
         for (k, &nd) in self.discrete_nodes.iter().enumerate() {
             self.discrete_v_old[k] = self.v[nd];
         }
-        self.lap(StepPhase::Other);
-        // Node loop over fixed chunks.
-        let n = self.u.len();
-        let n_chunks = n.div_ceil(NODE_CHUNK);
-        let g = self.model.gravity_m_per_s2;
-        let alpha = self.model.mass_damping_per_s;
-        let u_ptr = SharedMut(self.u.as_mut_ptr());
-        let v_ptr = SharedMut(self.v.as_mut_ptr());
-        let od_ptr = SharedMut(self.output.displacement.as_mut_ptr());
-        let ov_ptr = SharedMut(self.output.velocity.as_mut_ptr());
-        let oa_ptr = SharedMut(self.output.acceleration.as_mut_ptr());
-        let aux_node = &self.aux_force_node;
-        // Steps on which free nodes take the short path: no output fields to write and no
-        // subcycling (profiled on the default run's model, the short path took the node update
-        // from 1.0 to 0.7 ms a step).
-        let plain_step = !output && self.multi_rate.is_none();
-        let (f_int, f_aux, inv_mass, eff_mass, role, pv) = (
-            &self.f_int,
-            &self.f_aux,
-            &self.inv_mass,
-            &self.eff_mass,
-            &self.role,
-            &self.prescribed_velocity,
-        );
-        let gravity_mass = &self.gravity_mass;
+        Ok(())
+    }
+
+    /// Every node's update ([`super::node_update`]) over fixed chunks in parallel; the chunks'
+    /// sums added in chunk order. Returns the step's work increments and the nodes' kinetic
+    /// energy (output steps), and books the multi-rate levels' work.
+    fn update_nodes(&mut self, dt: f64, output: bool, energy: bool) -> (WorkTotals, f64) {
+        let n_chunks = self.u.len().div_ceil(NODE_CHUNK);
         let step = self.step;
-        // Multi-rate: node levels and each node's acceleration at its last update.
-        let (node_level, la_ptr, first_ptr, interface) = match &mut self.multi_rate {
-            Some(mr) => (
-                Some(&mr.node_level),
-                Some(SharedMut(mr.last_acceleration.as_mut_ptr())),
-                (step < mr.first_updates_end_step)
-                    .then_some(SharedMut(mr.first_update_pending.as_mut_ptr())),
-                Some(&mr.interface),
-            ),
-            None => (None, None, None, None),
+        let (node_level, last_acceleration, first_update_pending, interface) =
+            match &mut self.multi_rate {
+                Some(mr) => (
+                    Some(mr.node_level.as_slice()),
+                    Some(SharedMut(mr.last_acceleration.as_mut_ptr())),
+                    (step < mr.first_updates_end_step)
+                        .then_some(SharedMut(mr.first_update_pending.as_mut_ptr())),
+                    Some(&mr.interface),
+                ),
+                None => (None, None, None, None),
+            };
+        let update = NodeUpdate {
+            dt,
+            step,
+            output,
+            // Steps on which free nodes take the short path: no output fields to write and
+            // no subcycling.
+            plain_step: !output && node_level.is_none(),
+            gravity_m_per_s2: self.model.gravity_m_per_s2,
+            mass_damping_per_s: self.model.mass_damping_per_s,
+            f_int: &self.f_int,
+            f_aux: &self.f_aux,
+            aux_node: &self.aux_force_node,
+            inv_mass: &self.inv_mass,
+            eff_mass: &self.eff_mass,
+            gravity_mass: &self.gravity_mass,
+            role: &self.role,
+            prescribed_velocity: &self.prescribed_velocity,
+            u: SharedMut(self.u.as_mut_ptr()),
+            v: SharedMut(self.v.as_mut_ptr()),
+            out_displacement: SharedMut(self.output.displacement.as_mut_ptr()),
+            out_velocity: SharedMut(self.output.velocity.as_mut_ptr()),
+            out_acceleration: SharedMut(self.output.acceleration.as_mut_ptr()),
+            node_level,
+            last_acceleration,
+            first_update_pending,
+            interface,
         };
         (0..n_chunks)
             .into_par_iter()
-            .map(|c| {
-                // The chunk's work sums as plain locals (kept in registers: as fields of a
-                // WorkTotals they went through memory on every addition), added in the same
-                // order as before, so the sums are the same bit for bit.
-                let (mut internal_j, mut aux_j, mut gravity_j) = (0.0, 0.0, 0.0);
-                let (mut mass_damping_j, mut reaction_j) = (0.0, 0.0);
-                let mut lw = LevelWork::default();
-                let mut kinetic = 0.0;
-                for nd in c * NODE_CHUNK..((c + 1) * NODE_CHUNK).min(n) {
-                    let r = role[nd];
-                    if r & (ROLE_SLAVE | ROLE_RIGID) != 0 {
-                        continue;
-                    }
-                    let m = eff_mass[nd];
-                    let mg = gravity_mass[nd];
-                    let im = inv_mass[nd];
-                    // SAFETY: each node index belongs to exactly one chunk.
-                    let (un, vn) = unsafe { (&mut *u_ptr.at(nd), &mut *v_ptr.at(nd)) };
-                    if plain_step && r == 0 {
-                        // A free node on a step without output, subcycling or constraints:
-                        // the general update below with its branches taken out (the same
-                        // operations in the same order, so the same bits; dt_node = dt).
-                        let fi = f_int[nd];
-                        let fa = if aux_node[nd] { f_aux[nd] } else { [0.0; 3] };
-                        let mut vnew = [0.0; 3];
-                        for i in 0..3 {
-                            let force = fa[i] - fi[i] + mg * g[i] - alpha * m * vn[i];
-                            vnew[i] = vn[i] + dt * force * im;
-                            let vbar = 0.5 * (vn[i] + vnew[i]);
-                            internal_j += dt * fi[i] * vbar;
-                            aux_j += dt * fa[i] * vbar;
-                            gravity_j += dt * mg * g[i] * vbar;
-                            mass_damping_j += dt * alpha * m * vn[i] * vbar;
-                            un[i] += dt * vnew[i];
-                        }
-                        *vn = vnew;
-                        continue;
-                    }
-                    // A node of level k updates every 2^k steps with the step 2^k dt and
-                    // between its updates moves on at its velocity (multirate.rs).
-                    let period = node_level.map_or(1u64, |l| 1u64 << l[nd]);
-                    if step & (period - 1) != 0 {
-                        if let (true, Some(la)) = (output, la_ptr) {
-                            // The velocity at t_n between the node's updates, from its last two
-                            // half-step velocities (v_{m+1/2} at t_m + dt_k / 2 and the last
-                            // acceleration between them): second order, and the centred
-                            // velocity of the update at t_m itself.
-                            // SAFETY: as above; la_ptr is Some whenever node_level is.
-                            let a = unsafe { *la.at(nd) };
-                            let since =
-                                (step & (period - 1)) as f64 * dt - 0.5 * dt * period as f64;
-                            let vt = [0, 1, 2].map(|i| vn[i] + since * a[i]);
-                            kinetic += 0.5 * m * (vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
-                            // SAFETY: as above.
-                            unsafe {
-                                *od_ptr.at(nd) = *un;
-                                *ov_ptr.at(nd) = vt;
-                                *oa_ptr.at(nd) = a;
-                            }
-                        }
-                        for i in 0..3 {
-                            un[i] += dt * vn[i];
-                        }
-                        continue;
-                    }
-                    // With one level (or none) period is 1 and this is dt exactly.
-                    let mut dt_node = dt * period as f64;
-                    if let Some(first) = first_ptr {
-                        // SAFETY: as above.
-                        let pending = unsafe { &mut *first.at(nd) };
-                        if *pending {
-                            // The held velocity is of the last fine half step (multirate.rs).
-                            dt_node = 0.5 * (dt_node + dt);
-                            *pending = false;
-                        }
-                    }
-                    // Undeclared nodes' auxiliary forces are zero (aux_nodes.rs): not read.
-                    let fi = f_int[nd];
-                    let fa = if aux_node[nd] { f_aux[nd] } else { [0.0; 3] };
-                    let mut vnew = [0.0; 3];
-                    let mut vbar_node = [0.0; 3];
-                    let external_before = aux_j + gravity_j + reaction_j - mass_damping_j;
-                    for i in 0..3 {
-                        let force = fa[i] - fi[i] + mg * g[i] - alpha * m * vn[i];
-                        vnew[i] = vn[i] + dt_node * force * im;
-                        if r & (1 << i) != 0 {
-                            vnew[i] = 0.0;
-                        } else if r & (1 << (i + PRESCRIBED_SHIFT as usize)) != 0 {
-                            vnew[i] = pv[nd][i];
-                        }
-                        let vbar = 0.5 * (vn[i] + vnew[i]);
-                        vbar_node[i] = vbar;
-                        if r & ((1 << i) | (1 << (i + PRESCRIBED_SHIFT as usize))) != 0 {
-                            // Reaction = m a - f: its work keeps the balance honest.
-                            let reaction = m * (vnew[i] - vn[i]) / dt_node - force;
-                            reaction_j += dt_node * reaction * vbar;
-                        }
-                        internal_j += dt_node * fi[i] * vbar;
-                        aux_j += dt_node * fa[i] * vbar;
-                        gravity_j += dt_node * mg * g[i] * vbar;
-                        mass_damping_j += dt_node * alpha * m * vn[i] * vbar;
-                        if output {
-                            kinetic += 0.5 * m * vbar * vbar;
-                            // SAFETY: as above.
-                            unsafe {
-                                (*od_ptr.at(nd))[i] = un[i];
-                                (*ov_ptr.at(nd))[i] = vbar;
-                                (*oa_ptr.at(nd))[i] = (vnew[i] - vn[i]) / dt_node;
-                            }
-                        }
-                        un[i] += dt * vnew[i];
-                    }
-                    if let Some(la) = la_ptr {
-                        // SAFETY: as above.
-                        unsafe {
-                            *la.at(nd) = [0, 1, 2].map(|i| (vnew[i] - vn[i]) / dt_node);
-                        }
-                    }
-                    let level = node_level.map_or(0, |l| l[nd] as usize);
-                    if let (true, Some(iface)) = (level > 0, interface) {
-                        // Per-level bookkeeping (multirate.rs, "Energy by level").
-                        lw.external_j[level] +=
-                            aux_j + gravity_j + reaction_j - mass_damping_j - external_before;
-                        iface.add_transfer(nd, level, dt_node, &vbar_node, &mut lw);
-                    }
-                    *vn = vnew;
-                }
-                let w = WorkTotals {
-                    internal_j,
-                    aux_j,
-                    gravity_j,
-                    mass_damping_j,
-                    reaction_j,
-                    ..WorkTotals::default()
-                };
-                (w, kinetic, lw)
-            })
+            .map(|c| update.chunk(c))
             .collect_into_vec(&mut self.chunk_partials);
         self.lap(StepPhase::NodeUpdate);
         let mut inc = WorkTotals::default();
@@ -751,14 +638,28 @@ impl Solver {
             }
             mr.level_work.add_scaled(&inc_levels, 1.0);
         }
-        // Rigid bodies.
+        (inc, kinetic)
+    }
+
+    /// The rest of the step after the nodes: rigid bodies, tie slaves following their masters,
+    /// the work of springs and loads (forces at t_n times the centred velocity, to separate
+    /// them from contact in the auxiliary work), the energy report of t_n (energy steps), and
+    /// the running work totals.
+    fn finish_step(
+        &mut self,
+        t: f64,
+        dt: f64,
+        output: bool,
+        energy: bool,
+        mut inc: WorkTotals,
+        mut kinetic: f64,
+    ) {
         for b in 0..self.rigid.len() {
             let (w, k) = self.advance_rigid_body(b, t, dt, output);
             inc.add_scaled(&w, 1.0);
             kinetic += k;
         }
         self.lap(StepPhase::RigidBodies);
-        // Tie slaves follow their masters.
         super::tie_update::follow_masters(
             &self.model.ties,
             &mut self.u,
@@ -766,8 +667,6 @@ impl Solver {
             output.then_some(&mut self.output),
         );
         self.lap(StepPhase::TieFollow);
-        // Work of springs and loads (to separate them from contact in the aux work): forces at
-        // t_n times the centred velocity.
         if !self.discrete_nodes.is_empty() {
             let (sp_w, sp_d, ld_w) = self.discrete_work(t, dt);
             inc.spring_j += sp_w;
@@ -790,10 +689,6 @@ impl Solver {
             self.last_energy = Some(report);
         }
         self.work.add_scaled(&inc, 1.0);
-        self.time_s = t_next;
-        self.step += 1;
-        self.lap(StepPhase::Other);
-        Ok(())
     }
 
     /// Restarts the energy bookkeeping: the next report's energy is the new initial energy

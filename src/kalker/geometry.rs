@@ -105,7 +105,7 @@ pub fn curvatures_at(
     {
         return Err(Error::input(
             "geometry",
-            "--wheel-y",
+            "--wheel-y-m",
             format!("the gap at y = {y0_m} m is not Hertzian (curvatures A = {curvature_x_per_m:.4}, B = {curvature_y_per_m:.4} 1/m)"),
         ));
     }

@@ -107,8 +107,8 @@ impl HertzContact {
         material: Material,
     ) -> Result<HertzContact> {
         for (value, field) in [
-            (wheel_radius_m, "--wheel-radius"),
-            (rail_crown_radius_m, "--rail-radius"),
+            (wheel_radius_m, "--wheel-radius-m"),
+            (rail_crown_radius_m, "--rail-radius-m"),
         ] {
             if !(value.is_finite() && value > 0.0) {
                 return Err(Error::input(

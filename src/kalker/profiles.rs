@@ -123,14 +123,14 @@ pub fn s1002_on_54e1(wheel_y_m: f64, wheel_radius_m: f64) -> Result<ProfileConta
     if wheel_y_m.is_nan() || wheel_y_m.abs() > 0.03 {
         return Err(Error::input(
             "command line",
-            "--wheel-y",
+            "--wheel-y-m",
             format!("the tape circle must be within 30 mm of the rail centre, got {wheel_y_m} m"),
         ));
     }
     let y0 = first_contact_y_m(wheel_y_m).ok_or_else(|| {
         Error::input(
             "command line",
-            "--wheel-y",
+            "--wheel-y-m",
             "no tread point above the rail head",
         )
     })?;

@@ -231,7 +231,7 @@ pub fn compare_snapshot_on_profiles(
     }
     Err(Error::input(
         "command line",
-        "--wheel-y",
+        "--wheel-y-m",
         format!(
             "the contact patch at this wheel position reaches beyond the grid ({:.1} x {:.1} mm)",
             2e3 * half_x_m / 1.5,

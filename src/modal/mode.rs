@@ -2,7 +2,14 @@
 //! family and the paper's label (nodal circles, nodal diameters); how the solvers find the
 //! label is in docs/modal.md.
 
+use std::path::{Path, PathBuf};
+
 use serde::{Deserialize, Serialize};
+
+use crate::{Error, Result};
+
+/// The file name of the wheel modes in a run directory or a modal output folder.
+pub const MODES_FILE: &str = "modes.json";
 
 /// Kinetic energy share in the axle from which a mode belongs to the axle family. Why a half:
 /// such a mode is more the axle's than the wheel's; on the default wheel the shares fall in
@@ -44,4 +51,23 @@ impl ModeRef {
     pub fn label(&self) -> String {
         format!("({},{})", self.nodal_circles, self.nodal_diameters)
     }
+}
+
+/// Write `modes.json` into `dir` (through a temporary file): the one writer of the file that
+/// every later stage reads as [`ModeRef`]s. `modes` may carry more fields than a [`ModeRef`]
+/// (the axisymmetric solver's harmonic, residual and energy shares); readers ignore them.
+pub fn write_modes_json<T: Serialize>(dir: &Path, modes: &[T]) -> Result<PathBuf> {
+    let path = dir.join(MODES_FILE);
+    let text = serde_json::to_string_pretty(modes)
+        .map_err(|e| Error::Numerical(format!("encoding {MODES_FILE}: {e}")))?;
+    crate::output::write_file_staged(&path, |p| {
+        std::fs::write(p, &text).map_err(|e| Error::io(p, e))
+    })?;
+    Ok(path)
+}
+
+/// Read a `modes.json` (an array of [`ModeRef`]-compatible entries); errors name the file and
+/// the bad field.
+pub fn read_modes_json(path: &Path) -> Result<Vec<ModeRef>> {
+    crate::input::read_json(path)
 }

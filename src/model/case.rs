@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 pub use super::lateral::{LateralMotion, LateralRamp, LateralTable};
 pub use super::time_stepping::{MultiRateMode, TimeSteppingSpec};
 use crate::friction::FrictionLaw;
+use crate::input::Checker;
 use crate::scenario::LoadedScenario;
 use crate::{Error, Result};
 
@@ -227,220 +228,110 @@ pub struct LoadedCase {
     pub source: PathBuf,
 }
 
-fn positive(source: &str, field: &str, x: f64) -> Result<()> {
-    if !(x > 0.0 && x.is_finite()) {
-        return Err(Error::input(
-            source,
-            field,
-            format!("must be > 0 (got {x})"),
-        ));
-    }
-    Ok(())
-}
-
-fn non_negative(source: &str, field: &str, x: f64) -> Result<()> {
-    if !(x >= 0.0 && x.is_finite()) {
-        return Err(Error::input(
-            source,
-            field,
-            format!("must be >= 0 (got {x})"),
-        ));
-    }
-    Ok(())
-}
-
 impl RollingCase {
-    /// Checks every field; errors name the file and the field with the allowed range.
-    ///
-    /// Kept in one piece: a flat list of checks, one per field in the file's order, each naming its
-    /// field and range.
+    /// Checks every field; errors name the file and the field with the allowed range. One
+    /// check per field, in the file's order, grouped by the part of the case they describe.
     pub fn validate(&self, source: &str) -> Result<()> {
-        if !(self.end_time_s > 0.0 && self.end_time_s <= 1.0) {
-            return Err(Error::input(
-                source,
-                "end_time_s",
-                format!("must lie in (0, 1] s (got {})", self.end_time_s),
-            ));
-        }
-        if !(self.speed_km_per_h >= 0.0 && self.speed_km_per_h <= 500.0) {
-            return Err(Error::input(
-                source,
-                "speed_km_per_h",
-                format!("must lie in [0, 500] (got {})", self.speed_km_per_h),
-            ));
-        }
-        positive(source, "sprung_mass_kg", self.sprung_mass_kg)?;
-        positive(
-            source,
-            "primary_suspension.stiffness_n_per_m",
-            self.primary_suspension.stiffness_n_per_m,
-        )?;
-        non_negative(
-            source,
-            "primary_suspension.damping_n_s_per_m",
-            self.primary_suspension.damping_n_s_per_m,
-        )?;
-        positive(
-            source,
-            "rail_pad.stiffness_n_per_m",
-            self.rail_pad.stiffness_n_per_m,
-        )?;
-        non_negative(
-            source,
-            "rail_pad.damping_n_s_per_m",
-            self.rail_pad.damping_n_s_per_m,
-        )?;
-        if !(self.rail_pad.shear_fraction >= 0.0 && self.rail_pad.shear_fraction <= 1.0) {
-            return Err(Error::input(
-                source,
-                "rail_pad.shear_fraction",
-                format!("must lie in [0, 1] (got {})", self.rail_pad.shear_fraction),
-            ));
-        }
-        positive(
-            source,
-            "ballast.stiffness_n_per_m",
-            self.ballast.stiffness_n_per_m,
-        )?;
-        non_negative(
-            source,
-            "ballast.damping_n_s_per_m",
-            self.ballast.damping_n_s_per_m,
-        )?;
-        let m = &self.sleeper_material;
-        positive(
-            source,
-            "sleeper_material.youngs_modulus_pa",
-            m.youngs_modulus_pa,
-        )?;
-        positive(
-            source,
-            "sleeper_material.density_kg_per_m3",
-            m.density_kg_per_m3,
-        )?;
-        if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
-            return Err(Error::input(
-                source,
-                "sleeper_material.poisson_ratio",
-                format!("must lie in (-1, 0.5) (got {})", m.poisson_ratio),
-            ));
-        }
-        non_negative(source, "torque.max_n_m", self.torque.max_n_m)?;
-        if let Some(c) = &self.creepage {
-            if !self.hold_forward_speed {
-                return Err(Error::input(
-                    source,
-                    "hold_forward_speed",
-                    "a prescribed creepage holds the axle at the rolling speed: set                      hold_forward_speed to true (or leave it out), or remove creepage",
-                ));
-            }
-            if self.torque.max_n_m != 0.0 {
-                return Err(Error::input(
-                    source,
-                    "creepage",
-                    "a prescribed creepage replaces the driving torque: set torque.max_n_m to 0",
-                ));
-            }
-            for (field, x) in [("creepage.start", c.start), ("creepage.end", c.end)] {
-                if !(x.is_finite() && x.abs() <= 0.1) {
-                    return Err(Error::input(
-                        source,
-                        field,
-                        format!("must lie in [-0.1, 0.1] (got {x}); 0.001 is 0.1 %"),
-                    ));
-                }
-            }
-            if !(c.start_s >= 0.0 && c.end_s > c.start_s && c.end_s <= self.end_time_s) {
-                return Err(Error::input(
-                    source,
-                    "creepage.end_s",
-                    format!(
-                        "needs 0 <= start_s < end_s <= end_time_s (got {} .. {} s, end_time_s {} s)",
-                        c.start_s, c.end_s, self.end_time_s
-                    ),
-                ));
-            }
-        }
-        positive(source, "torque.ramp_end_s", self.torque.ramp_end_s)?;
+        let c = Checker {
+            source_name: source,
+        };
+        self.validate_vehicle_and_track(&c)?;
+        self.validate_drive(&c)?;
         if let Some(l) = &self.lateral_motion {
             l.validate(source, "lateral_motion", self.end_time_s)?;
         }
         self.friction.validate(source, "friction")?;
-        if !(self.penalty_scale > 0.0 && self.penalty_scale <= 100.0) {
-            return Err(Error::input(
-                source,
-                "penalty_scale",
-                format!("must lie in (0, 100] (got {})", self.penalty_scale),
-            ));
-        }
-        if let Some(l) = self.penalty_length_mm {
-            if !(0.1..=100.0).contains(&l) {
-                return Err(Error::input(
-                    source,
-                    "penalty_length_mm",
-                    format!("must lie in [0.1, 100] mm (got {l})"),
-                ));
-            }
-        }
-        non_negative(source, "mass_damping_per_s", self.mass_damping_per_s)?;
-        positive(source, "preload.damping_per_s", self.preload.damping_per_s)?;
-        if !(self.preload.tolerance > 0.0 && self.preload.tolerance < 1.0) {
-            return Err(Error::input(
-                source,
-                "preload.tolerance",
-                format!("must lie in (0, 1) (got {})", self.preload.tolerance),
-            ));
-        }
-        if !(self.preload.load_tolerance > 0.0 && self.preload.load_tolerance < 1.0) {
-            return Err(Error::input(
-                source,
-                "preload.load_tolerance",
-                format!("must lie in (0, 1) (got {})", self.preload.load_tolerance),
-            ));
-        }
-        if !(self.preload.max_steps >= 2 && self.preload.max_steps <= 100_000_000) {
-            return Err(Error::input(
-                source,
-                "preload.max_steps",
-                format!("must lie in 2..=100000000 (got {})", self.preload.max_steps),
-            ));
-        }
-        if let Some(dt) = self.preload.time_step_s {
-            if !(dt > 0.0 && dt <= 1e-4) {
-                return Err(Error::input(
-                    source,
-                    "preload.time_step_s",
-                    format!("must lie in (0, 1e-4] s (got {dt})"),
-                ));
-            }
-        }
+        self.validate_numerics(&c)?;
         self.time_stepping.validate(source)?;
-        let o = &self.output;
-        if !(o.sample_rate_hz >= 100.0 && o.sample_rate_hz <= 1e7) {
-            return Err(Error::input(
-                source,
-                "output.sample_rate_hz",
-                format!("must lie in [100, 1e7] Hz (got {})", o.sample_rate_hz),
-            ));
-        }
-        for (k, t) in o.patch_times_s.iter().chain(&o.vtu_times_s).enumerate() {
-            if !(*t >= 0.0 && *t <= self.end_time_s) {
-                return Err(Error::input(
-                    source,
-                    format!("output times [{k}]"),
+        self.validate_output(&c)
+    }
+
+    /// Run length, speed, masses, suspension, rail pads, ballast and sleepers.
+    fn validate_vehicle_and_track(&self, c: &Checker) -> Result<()> {
+        c.above_at_most("end_time_s", self.end_time_s, 0.0, 1.0)?;
+        c.within("speed_km_per_h", self.speed_km_per_h, 0.0, 500.0)?;
+        c.positive("sprung_mass_kg", self.sprung_mass_kg)?;
+        let s = &self.primary_suspension;
+        c.positive("primary_suspension.stiffness_n_per_m", s.stiffness_n_per_m)?;
+        c.non_negative("primary_suspension.damping_n_s_per_m", s.damping_n_s_per_m)?;
+        let p = &self.rail_pad;
+        c.positive("rail_pad.stiffness_n_per_m", p.stiffness_n_per_m)?;
+        c.non_negative("rail_pad.damping_n_s_per_m", p.damping_n_s_per_m)?;
+        c.within("rail_pad.shear_fraction", p.shear_fraction, 0.0, 1.0)?;
+        let b = &self.ballast;
+        c.positive("ballast.stiffness_n_per_m", b.stiffness_n_per_m)?;
+        c.non_negative("ballast.damping_n_s_per_m", b.damping_n_s_per_m)?;
+        let m = &self.sleeper_material;
+        c.positive("sleeper_material.youngs_modulus_pa", m.youngs_modulus_pa)?;
+        c.positive("sleeper_material.density_kg_per_m3", m.density_kg_per_m3)?;
+        // An isotropic solid needs -1 < nu < 0.5 for a positive definite elasticity.
+        c.within_open("sleeper_material.poisson_ratio", m.poisson_ratio, -1.0, 0.5)
+    }
+
+    /// The driving torque, or the prescribed creepage that replaces it.
+    fn validate_drive(&self, c: &Checker) -> Result<()> {
+        c.non_negative("torque.max_n_m", self.torque.max_n_m)?;
+        if let Some(cr) = &self.creepage {
+            c.require(self.hold_forward_speed, "hold_forward_speed", || {
+                "a prescribed creepage holds the axle at the rolling speed: set \
+                 hold_forward_speed to true (or leave it out), or remove creepage"
+                    .into()
+            })?;
+            c.require(self.torque.max_n_m == 0.0, "creepage", || {
+                "a prescribed creepage replaces the driving torque: set torque.max_n_m to 0".into()
+            })?;
+            // 10 % is far into full sliding; 0.001 is 0.1 %.
+            c.within("creepage.start", cr.start, -0.1, 0.1)?;
+            c.within("creepage.end", cr.end, -0.1, 0.1)?;
+            c.require(
+                cr.start_s >= 0.0 && cr.end_s > cr.start_s && cr.end_s <= self.end_time_s,
+                "creepage.end_s",
+                || {
                     format!(
-                        "must lie in [0, end_time_s = {}] (got {t})",
-                        self.end_time_s
-                    ),
-                ));
+                        "needs 0 <= start_s < end_s <= end_time_s (got {} .. {} s, end_time_s {} s)",
+                        cr.start_s, cr.end_s, self.end_time_s
+                    )
+                },
+            )?;
+        }
+        c.positive("torque.ramp_end_s", self.torque.ramp_end_s)
+    }
+
+    /// Contact penalty, damping and the static preload's settings.
+    fn validate_numerics(&self, c: &Checker) -> Result<()> {
+        c.above_at_most("penalty_scale", self.penalty_scale, 0.0, 100.0)?;
+        if let Some(l) = self.penalty_length_mm {
+            c.within("penalty_length_mm", l, 0.1, 100.0)?;
+        }
+        c.non_negative("mass_damping_per_s", self.mass_damping_per_s)?;
+        let p = &self.preload;
+        c.positive("preload.damping_per_s", p.damping_per_s)?;
+        c.within_open("preload.tolerance", p.tolerance, 0.0, 1.0)?;
+        c.within_open("preload.load_tolerance", p.load_tolerance, 0.0, 1.0)?;
+        c.require(
+            (2..=100_000_000).contains(&p.max_steps),
+            "preload.max_steps",
+            || format!("must be in 2..=100000000, got {}", p.max_steps),
+        )?;
+        if let Some(dt) = p.time_step_s {
+            c.above_at_most("preload.time_step_s", dt, 0.0, 1e-4)?;
+        }
+        Ok(())
+    }
+
+    /// Sampling, snapshot and VTU times, and the slip threshold of the patch maps.
+    fn validate_output(&self, c: &Checker) -> Result<()> {
+        let o = &self.output;
+        c.within("output.sample_rate_hz", o.sample_rate_hz, 100.0, 1e7)?;
+        for (name, times) in [
+            ("output.patch_times_s", &o.patch_times_s),
+            ("output.vtu_times_s", &o.vtu_times_s),
+        ] {
+            for (k, t) in times.iter().enumerate() {
+                c.within(&format!("{name}[{k}]"), *t, 0.0, self.end_time_s)?;
             }
         }
-        positive(
-            source,
-            "output.slip_threshold_m_per_s",
-            o.slip_threshold_m_per_s,
-        )?;
-        Ok(())
+        c.positive("output.slip_threshold_m_per_s", o.slip_threshold_m_per_s)
     }
 
     /// Rolling speed (m/s).
@@ -481,7 +372,7 @@ pub fn load_case(path: &Path) -> Result<LoadedCase> {
             "model_scenario",
             "this is a model scenario (wheel and track meshes, data/models/), not a rolling \
              case: expected a case file (data/cases/) that names it in `model_scenario`; \
-             `squeal mesh --scenario` takes a model scenario as it is",
+             `squeal mesh --model` takes a model scenario as it is",
         ));
     }
     let case: RollingCase = crate::input::parse_json(&text, &source)?;

@@ -72,7 +72,7 @@ pub fn build_report(
         let histories = Table::read(&hist_path)?;
         let modes_path = dir.join("modes.json");
         let modes: Option<Vec<ModeRef>> = if modes_path.exists() {
-            Some(crate::input::read_json(&modes_path)?)
+            Some(crate::modal::mode::read_modes_json(&modes_path)?)
         } else {
             None
         };

@@ -30,6 +30,7 @@ pub mod output;
 mod preload;
 pub mod record;
 pub mod stepping;
+pub mod wheel_modes;
 
 use std::path::{Path, PathBuf};
 
@@ -213,6 +214,8 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
     crate::output::FolderLock::refuse_if_held(&opts.out_dir)?;
     prepare_run_directory(opts)?;
     let _claim = crate::output::FolderLock::acquire(&opts.out_dir)?;
+    // The modes that label the run's peaks, before its minutes or hours of stepping.
+    wheel_modes::write_run_wheel_modes(&loaded.scenario.wheel, &opts.out_dir, opts.resume)?;
     // Read before anything of the resume is written.
     let earlier = opts
         .resume

@@ -196,6 +196,10 @@ enum Factor {
 /// Solves for static equilibrium under the model's loads (gravity, nodal loads, springs, the
 /// auxiliary forces at the current time). Time does not advance; velocities end at zero and
 /// the energy bookkeeping restarts from the equilibrium.
+///
+/// Each iteration ([`Newton`]): the residual and its convergence test; an approach step for
+/// bodies nothing holds yet; else the tangent (re)built and factored when the contact's active
+/// set changed; the linear solve; the increment, capped where the regularisation carries it.
 pub fn solve_static<A: AuxForces + ?Sized>(
     solver: &mut Solver,
     aux: &mut A,
@@ -213,60 +217,115 @@ pub fn solve_static<A: AuxForces + ?Sized>(
     solver.v.iter_mut().for_each(|v| *v = [0.0; 3]);
     solver.zero_rigid_velocities();
     let dofs = ReducedDofs::new(solver, &opts.held_rigid_translations)?;
-    let n = dofs.len();
-    // The element and spring pattern, kept between iterations.
-    let element_keys = base_keys(solver, &dofs);
+    let mut newton = Newton::new(solver, &dofs, opts);
     let (t0, dt) = (solver.time_s, solver.dt_s);
-    let mut residual = vec![0.0; 3 * n];
-    // The residual with held directions zeroed: the right-hand side of every solve.
-    let mut rhs = vec![0.0; 3 * n];
-    let mut increment = vec![0.0; 3 * n];
-    let mut terms: Vec<RankOneStiffness> = Vec::new();
-    let mut tangent: Option<Tangent> = None;
-    // The rank-one terms in the tangent's values (None: nothing assembled yet).
-    let mut assembled_terms: Option<Vec<RankOneStiffness>> = None;
-    let mut factor: Option<Factor> = None;
-    let mut report = StaticReport {
-        iterations: 0,
-        factorisations: 0,
-        symbolic_analyses: 0,
-        relative_residual: f64::INFINITY,
-        unknowns: dofs.held.iter().flatten().filter(|h| !**h).count(),
-        factor_entries: 0,
-        contact_terms: 0,
-        stored_energy_j: 0.0,
-        held_reactions_n: Vec::new(),
-        seconds: 0.0,
-        factor_seconds: 0.0,
-        assembly_seconds: 0.0,
-        symbolic_seconds: 0.0,
-        linear_solver: opts.linear_solver,
-        cg_iterations: 0,
-        coarse_unknowns: 0,
-        preconditioner_setups: 0,
-        approach_steps: 0,
-    };
-    let omega_r2 = (2.0 * std::f64::consts::PI * opts.regularisation_hz).powi(2);
-    let bodies = opts
-        .approach_steps
-        .then(|| Bodies::new(solver, &dofs, omega_r2, opts.max_increment_m));
-    // The rank-one terms' nodes in the factor in use: a factor is reused only on the same
-    // active set (a slave that came into contact since has no stiffness in it, and the step
-    // would let its body fly off on the regularisation).
-    let mut factor_signature: Vec<[usize; 5]> = Vec::new();
-    // The previous iteration's relative residual (the forcing terms follow its fall).
-    let mut previous_relative: Option<f64> = None;
     loop {
         solver.gather_forces(aux, t0, dt);
-        let reference = dofs.residual(solver, &mut residual);
-        for ((b, r), h) in rhs
+        let Some(relative) = newton.residual_or_done(solver, &dofs, opts, start)? else {
+            break;
+        };
+        newton.terms.clear();
+        aux.stiffness_terms(&mut newton.terms);
+        if newton.approach_step(solver, &dofs, opts) {
+            continue;
+        }
+        newton.update_factor(solver, &dofs, opts)?;
+        newton.solve_increment(solver, &dofs, opts, relative)?;
+        newton.apply_increment(solver, &dofs, opts, relative);
+    }
+    Ok(newton.finish(solver, &dofs, start))
+}
+
+/// The state of the Newton iteration of [`solve_static`] between its phases.
+struct Newton {
+    /// Unknowns (reduced nodes, 3 each).
+    n: usize,
+    /// The element and spring pattern, kept between iterations.
+    element_keys: Vec<u64>,
+    residual: Vec<f64>,
+    /// The residual with held directions zeroed: the right-hand side of every solve.
+    rhs: Vec<f64>,
+    increment: Vec<f64>,
+    terms: Vec<RankOneStiffness>,
+    tangent: Option<Tangent>,
+    /// The rank-one terms in the tangent's values (None: nothing assembled yet).
+    assembled_terms: Option<Vec<RankOneStiffness>>,
+    factor: Option<Factor>,
+    /// The rank-one terms' nodes in the factor in use: a factor is reused only on the same
+    /// active set (a slave that came into contact since has no stiffness in it, and the step
+    /// would let its body fly off on the regularisation).
+    factor_signature: Vec<[usize; 5]>,
+    /// The previous iteration's relative residual (the forcing terms follow its fall).
+    previous_relative: Option<f64>,
+    omega_r2: f64,
+    bodies: Option<Bodies>,
+    report: StaticReport,
+}
+
+impl Newton {
+    fn new(solver: &Solver, dofs: &ReducedDofs, opts: &StaticOptions) -> Newton {
+        let n = dofs.len();
+        let omega_r2 = (2.0 * std::f64::consts::PI * opts.regularisation_hz).powi(2);
+        Newton {
+            n,
+            element_keys: base_keys(solver, dofs),
+            residual: vec![0.0; 3 * n],
+            rhs: vec![0.0; 3 * n],
+            increment: vec![0.0; 3 * n],
+            terms: Vec::new(),
+            tangent: None,
+            assembled_terms: None,
+            factor: None,
+            factor_signature: Vec::new(),
+            previous_relative: None,
+            omega_r2,
+            bodies: opts
+                .approach_steps
+                .then(|| Bodies::new(solver, dofs, omega_r2, opts.max_increment_m)),
+            report: StaticReport {
+                iterations: 0,
+                factorisations: 0,
+                symbolic_analyses: 0,
+                relative_residual: f64::INFINITY,
+                unknowns: dofs.held.iter().flatten().filter(|h| !**h).count(),
+                factor_entries: 0,
+                contact_terms: 0,
+                stored_energy_j: 0.0,
+                held_reactions_n: Vec::new(),
+                seconds: 0.0,
+                factor_seconds: 0.0,
+                assembly_seconds: 0.0,
+                symbolic_seconds: 0.0,
+                linear_solver: opts.linear_solver,
+                cg_iterations: 0,
+                coarse_unknowns: 0,
+                preconditioner_setups: 0,
+                approach_steps: 0,
+            },
+        }
+    }
+
+    /// The residual of the gathered forces and its relative size; None when it is below the
+    /// tolerance (converged). A non-finite residual, a stop request or the iteration limit
+    /// end the solve with an error.
+    fn residual_or_done(
+        &mut self,
+        solver: &Solver,
+        dofs: &ReducedDofs,
+        opts: &StaticOptions,
+        start: Instant,
+    ) -> Result<Option<f64>> {
+        let reference = dofs.residual(solver, &mut self.residual);
+        for ((b, r), h) in self
+            .rhs
             .iter_mut()
-            .zip(&residual)
+            .zip(&self.residual)
             .zip(dofs.held.iter().flatten())
         {
             *b = if *h { 0.0 } else { *r };
         }
-        let free_norm = rhs.iter().map(|r| r * r).sum::<f64>().sqrt();
+        let report = &mut self.report;
+        let free_norm = self.rhs.iter().map(|r| r * r).sum::<f64>().sqrt();
         if !free_norm.is_finite() {
             return Err(Error::Numerical(format!(
                 "static solve diverged after {} iterations (non-finite residual)",
@@ -289,7 +348,7 @@ pub fn solve_static<A: AuxForces + ?Sized>(
             );
         }
         if relative < opts.tolerance {
-            break;
+            return Ok(None);
         }
         if opts.stop.is_requested() {
             return Err(Error::Interrupted(format!(
@@ -306,101 +365,134 @@ pub fn solve_static<A: AuxForces + ?Sized>(
                 report.iterations, opts.tolerance, report.contact_terms
             )));
         }
-        terms.clear();
-        aux.stiffness_terms(&mut terms);
-        let approach = bodies
-            .as_ref()
-            .and_then(|b| b.approach_step(solver, &dofs, &terms, &rhs, &mut increment));
-        if let Some(step) = approach {
-            if opts.trace {
-                eprintln!(
-                    "  approach step: free bodies {}, the fastest would move {:.3e} m; moved \
-                     {:.1e} m by their translation, without a solve",
-                    step.bodies_moved, step.free_translation_m, opts.max_increment_m
-                );
-            }
-            dofs.apply_increment(solver, &increment);
-            // Not a Newton step: the next forcing term starts afresh (as after a capped step).
-            previous_relative = None;
-            report.iterations += 1;
-            report.approach_steps += 1;
-            continue;
+        Ok(Some(relative))
+    }
+
+    /// Moves the free bodies by their translation alone, without a solve, while that is
+    /// longer than the step cap ([`approach`]); whether it did.
+    fn approach_step(
+        &mut self,
+        solver: &mut Solver,
+        dofs: &ReducedDofs,
+        opts: &StaticOptions,
+    ) -> bool {
+        let approach = self.bodies.as_ref().and_then(|b| {
+            b.approach_step(solver, dofs, &self.terms, &self.rhs, &mut self.increment)
+        });
+        let Some(step) = approach else {
+            return false;
+        };
+        if opts.trace {
+            eprintln!(
+                "  approach step: free bodies {}, the fastest would move {:.3e} m; moved \
+                 {:.1e} m by their translation, without a solve",
+                step.bodies_moved, step.free_translation_m, opts.max_increment_m
+            );
         }
-        let signature = term_signature(&terms);
-        if factor.is_none() || signature != factor_signature {
-            let t = Instant::now();
-            factor_signature = signature;
-            report.contact_terms = terms.len();
-            let contact_keys = term_keys(solver, &dofs, &terms);
-            let rebuild = match &tangent {
-                None => true,
-                Some(tg) => contact_keys.iter().any(|&k| !tg.contains(k)),
-            };
-            if rebuild {
-                let mut keys = element_keys.clone();
-                keys.extend_from_slice(&contact_keys);
-                if !terms.is_empty() {
-                    // Room for the active set to grow by a ring of nodes without a new
-                    // symbolic analysis: a slave next to a contact slave meets a face next to
-                    // the contact faces.
-                    keys.extend(widened_contact_keys(
-                        &element_keys,
-                        n,
-                        solver,
-                        &dofs,
-                        &terms,
-                    ));
-                }
-                keys.par_sort_unstable();
-                keys.dedup();
-                tangent = Some(Tangent::from_keys(n, &keys));
-                if opts.linear_solver == LinearSolver::Direct {
-                    // A new pattern needs a new symbolic analysis; the iterative solver's
-                    // aggregates stay (they follow the elements, which do not change).
-                    factor = None;
-                }
-            }
-            let Some(tg) = tangent.as_mut() else {
-                unreachable!("the tangent was built above")
-            };
-            let ta = Instant::now();
-            match assembled_terms.as_deref() {
-                // The same pattern: only the rank-one terms change.
-                Some(old) if !rebuild => update_terms(solver, &dofs, old, &terms, tg),
-                _ => assemble(solver, &dofs, &terms, opts.regularisation_hz, tg),
-            }
-            assembled_terms = Some(terms.clone());
-            report.assembly_seconds += ta.elapsed().as_secs_f64();
-            factor = Some(match opts.linear_solver {
-                LinearSolver::Direct => {
-                    direct_factor(tg, factor.take(), opts.memory_limit_bytes, &mut report)?
-                }
-                LinearSolver::Iterative => {
-                    let contact_terms = terms.len();
-                    iterative_factor(
-                        solver,
-                        &dofs,
-                        tg,
-                        factor.take(),
-                        TangentChange {
-                            pattern_changed: rebuild,
-                            contact_terms,
-                        },
-                        opts,
-                        &mut report,
-                    )?
-                }
-            });
-            report.factorisations += 1;
-            report.factor_seconds += t.elapsed().as_secs_f64();
+        dofs.apply_increment(solver, &self.increment);
+        // Not a Newton step: the next forcing term starts afresh (as after a capped step).
+        self.previous_relative = None;
+        self.report.iterations += 1;
+        self.report.approach_steps += 1;
+        true
+    }
+
+    /// The tangent and its factor (or preconditioner), made again when the contact's active
+    /// set changed: a new pattern (and symbolic analysis) only when a contact term falls
+    /// outside the pattern, else new values of the rank-one terms on the same pattern.
+    fn update_factor(
+        &mut self,
+        solver: &Solver,
+        dofs: &ReducedDofs,
+        opts: &StaticOptions,
+    ) -> Result<()> {
+        let signature = term_signature(&self.terms);
+        if self.factor.is_some() && signature == self.factor_signature {
+            return Ok(());
         }
-        let Some(f) = factor.as_mut() else {
+        let t = Instant::now();
+        self.factor_signature = signature;
+        self.report.contact_terms = self.terms.len();
+        let contact_keys = term_keys(solver, dofs, &self.terms);
+        let rebuild = match &self.tangent {
+            None => true,
+            Some(tg) => contact_keys.iter().any(|&k| !tg.contains(k)),
+        };
+        if rebuild {
+            let mut keys = self.element_keys.clone();
+            keys.extend_from_slice(&contact_keys);
+            if !self.terms.is_empty() {
+                // Room for the active set to grow by a ring of nodes without a new symbolic
+                // analysis: a slave next to a contact slave meets a face next to the contact
+                // faces.
+                keys.extend(widened_contact_keys(
+                    &self.element_keys,
+                    self.n,
+                    solver,
+                    dofs,
+                    &self.terms,
+                ));
+            }
+            keys.par_sort_unstable();
+            keys.dedup();
+            self.tangent = Some(Tangent::from_keys(self.n, &keys));
+            if opts.linear_solver == LinearSolver::Direct {
+                // A new pattern needs a new symbolic analysis; the iterative solver's
+                // aggregates stay (they follow the elements, which do not change).
+                self.factor = None;
+            }
+        }
+        let Some(tg) = self.tangent.as_mut() else {
+            unreachable!("the tangent was built above")
+        };
+        let ta = Instant::now();
+        match self.assembled_terms.as_deref() {
+            // The same pattern: only the rank-one terms change.
+            Some(old) if !rebuild => update_terms(solver, dofs, old, &self.terms, tg),
+            _ => assemble(solver, dofs, &self.terms, opts.regularisation_hz, tg),
+        }
+        self.assembled_terms = Some(self.terms.clone());
+        self.report.assembly_seconds += ta.elapsed().as_secs_f64();
+        let report = &mut self.report;
+        self.factor = Some(match opts.linear_solver {
+            LinearSolver::Direct => {
+                direct_factor(tg, self.factor.take(), opts.memory_limit_bytes, report)?
+            }
+            LinearSolver::Iterative => iterative_factor(
+                solver,
+                dofs,
+                tg,
+                self.factor.take(),
+                TangentChange {
+                    pattern_changed: rebuild,
+                    contact_terms: self.terms.len(),
+                },
+                opts,
+                report,
+            )?,
+        });
+        report.factorisations += 1;
+        report.factor_seconds += t.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Solves `K_T dq = R` for the increment: with the factor, or by conjugate gradients to
+    /// the forcing term (a kept preconditioner that no longer fits is made again once).
+    fn solve_increment(
+        &mut self,
+        solver: &Solver,
+        dofs: &ReducedDofs,
+        opts: &StaticOptions,
+        relative: f64,
+    ) -> Result<()> {
+        let Some(f) = self.factor.as_mut() else {
             unreachable!("a factor was made above")
         };
+        let (rhs, increment, report) = (&self.rhs, &mut self.increment, &mut self.report);
         match f {
             Factor::Cholesky { symbolic, l_values } => {
-                increment.copy_from_slice(&rhs);
-                solve(symbolic, l_values, &mut increment);
+                increment.copy_from_slice(rhs);
+                solve(symbolic, l_values, increment);
             }
             Factor::Iterative {
                 matrix,
@@ -410,27 +502,27 @@ pub fn solve_static<A: AuxForces + ?Sized>(
             } => {
                 let cg_start = Instant::now();
                 let cg_options = PcgOptions {
-                    tolerance: forcing_term(relative, previous_relative, opts.tolerance),
+                    tolerance: forcing_term(relative, self.previous_relative, opts.tolerance),
                     max_iterations: CG_ITERATIONS,
                 };
                 increment.iter_mut().for_each(|v| *v = 0.0);
                 let mut pcg = conjugate_gradients(
                     matrix,
-                    &rhs,
-                    &mut increment,
+                    rhs,
+                    increment,
                     preconditioner.as_mut(),
                     &cg_options,
                 );
                 if pcg.is_err() && !*fresh {
                     // A kept preconditioner that no longer fits: a new one, and again.
-                    *preconditioner = new_preconditioner(solver, &dofs, matrix, opts, &mut report)?;
-                    *preconditioner_contact_terms = terms.len();
+                    *preconditioner = new_preconditioner(solver, dofs, matrix, opts, report)?;
+                    *preconditioner_contact_terms = self.terms.len();
                     *fresh = true;
                     increment.iter_mut().for_each(|v| *v = 0.0);
                     pcg = conjugate_gradients(
                         matrix,
-                        &rhs,
-                        &mut increment,
+                        rhs,
+                        increment,
                         preconditioner.as_mut(),
                         &cg_options,
                     );
@@ -458,15 +550,27 @@ pub fn solve_static<A: AuxForces + ?Sized>(
                 }
             }
         }
-        // A step the regularisation carries (a body with nothing under it yet) is as long as
-        // `g / omega_r^2`: cap it. It is recognised by its energy: `dqᵀ M omega_r^2 dq` over
-        // half of `dqᵀ R = dqᵀ K_T dq`. A step the stiffness carries is a Newton step: kept.
+        Ok(())
+    }
+
+    /// Applies the increment. A step the regularisation carries (a body with nothing under it
+    /// yet) is as long as `g / omega_r^2`: it is capped. It is recognised by its energy:
+    /// `dqᵀ M omega_r^2 dq` over half of `dqᵀ R = dqᵀ K_T dq`. A step the stiffness carries is
+    /// a Newton step: kept.
+    fn apply_increment(
+        &mut self,
+        solver: &mut Solver,
+        dofs: &ReducedDofs,
+        opts: &StaticOptions,
+        relative: f64,
+    ) {
+        let (n, increment) = (self.n, &mut self.increment);
         let (mut regularisation_energy, mut step_energy) = (0.0, 0.0);
         for r in 0..n {
             for i in 0..3 {
                 let d = increment[3 * r + i];
-                regularisation_energy += dofs.mass_kg[r] * omega_r2 * d * d;
-                step_energy += d * rhs[3 * r + i];
+                regularisation_energy += dofs.mass_kg[r] * self.omega_r2 * d * d;
+                step_energy += d * self.rhs[3 * r + i];
             }
         }
         if opts.trace {
@@ -491,33 +595,39 @@ pub fn solve_static<A: AuxForces + ?Sized>(
             );
         }
         let capped = regularisation_energy > 0.5 * step_energy
-            && cap_increment(&mut increment, opts.max_increment_m);
-        dofs.apply_increment(solver, &increment);
+            && cap_increment(increment, opts.max_increment_m);
+        dofs.apply_increment(solver, increment);
         // A capped step is no Newton step: the residual's fall across it says nothing of the
         // iteration's convergence, so the next forcing term starts afresh, as the first does.
-        previous_relative = if capped { None } else { Some(relative) };
-        report.iterations += 1;
+        self.previous_relative = if capped { None } else { Some(relative) };
+        self.report.iterations += 1;
     }
-    // Reactions of held rigid translations: the out-of-balance force the constraint takes.
-    let free = dofs.free_nodes.len();
-    report.held_reactions_n = (0..solver.rigid.len())
-        .map(|b| {
-            std::array::from_fn(|i| {
-                if dofs.held[free + b][i] {
-                    -residual[3 * (free + b) + i]
-                } else {
-                    0.0
-                }
+
+    /// The report at equilibrium: the reactions of held rigid translations (the out-of-balance
+    /// force the constraint takes) and the stored energy; velocities zeroed and the energy
+    /// bookkeeping restarted.
+    fn finish(mut self, solver: &mut Solver, dofs: &ReducedDofs, start: Instant) -> StaticReport {
+        let free = dofs.free_nodes.len();
+        let residual = &self.residual;
+        self.report.held_reactions_n = (0..solver.rigid.len())
+            .map(|b| {
+                std::array::from_fn(|i| {
+                    if dofs.held[free + b][i] {
+                        -residual[3 * (free + b) + i]
+                    } else {
+                        0.0
+                    }
+                })
             })
-        })
-        .collect();
-    let (el, _) = solver.element_energy();
-    report.stored_energy_j = el.strain_j + el.hourglass_j + solver.spring_energy_j();
-    solver.v.iter_mut().for_each(|v| *v = [0.0; 3]);
-    solver.zero_rigid_velocities();
-    solver.rebase_energy();
-    report.seconds = start.elapsed().as_secs_f64();
-    Ok(report)
+            .collect();
+        let (el, _) = solver.element_energy();
+        self.report.stored_energy_j = el.strain_j + el.hourglass_j + solver.spring_energy_j();
+        solver.v.iter_mut().for_each(|v| *v = [0.0; 3]);
+        solver.zero_rigid_velocities();
+        solver.rebase_energy();
+        self.report.seconds = start.elapsed().as_secs_f64();
+        self.report
+    }
 }
 
 fn check_options(opts: &StaticOptions) -> Result<()> {

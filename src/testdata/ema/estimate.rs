@@ -29,7 +29,7 @@ pub fn estimate_lscf(
     if !(fmin_hz.is_finite() && fmax_hz.is_finite() && 0.0 <= fmin_hz && fmin_hz < fmax_hz) {
         return Err(Error::input(
             "lscf",
-            "--fmin/--fmax",
+            "--fmin-hz/--fmax-hz",
             format!("[{fmin_hz}, {fmax_hz}] Hz; allowed: 0 <= fmin < fmax"),
         ));
     }
