@@ -6,6 +6,43 @@ use std::path::Path;
 
 use crate::{Error, Result};
 
+/// Largest input table read (bytes): a CSV row of a run is at least a few bytes per value,
+/// and the values (8 bytes each) and the reader's buffers take about as much memory as the
+/// text; 4 GiB keeps a table within this project's 24 GB machines with room to analyse it.
+pub const MAX_TABLE_BYTES: u64 = 4 << 30;
+
+/// Checks that `path` names a regular file of at most [`MAX_TABLE_BYTES`] before it is read:
+/// a device (`/dev/zero`), a pipe or a folder would be read without end or fail obscurely.
+pub fn check_table_file(path: &Path) -> Result<()> {
+    let name = path.display().to_string();
+    let meta = std::fs::metadata(path).map_err(|e| {
+        if e.kind() == std::io::ErrorKind::NotFound {
+            Error::input(&name, "file", "does not exist (check the path)")
+        } else {
+            Error::io(path, e)
+        }
+    })?;
+    if !meta.is_file() {
+        return Err(Error::input(
+            &name,
+            "file",
+            "is not a regular file (a folder, device or pipe): expected a CSV file",
+        ));
+    }
+    if meta.len() > MAX_TABLE_BYTES {
+        return Err(Error::input(
+            &name,
+            "file",
+            format!(
+                "is {:.1} GiB: at most {} GiB is read (split the record or thin it)",
+                meta.len() as f64 / (1u64 << 30) as f64,
+                MAX_TABLE_BYTES >> 30
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Columns of a CSV file with a `time_s` column.
 #[derive(Clone, Debug)]
 pub struct Table {
@@ -31,6 +68,7 @@ impl Table {
 
     /// Read a numeric CSV file (any columns).
     pub fn read_numeric(path: &Path) -> Result<Table> {
+        check_table_file(path)?;
         let name = path.display().to_string();
         let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
         let mut reader = csv::ReaderBuilder::new()

@@ -98,6 +98,30 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     // (arguments, exit code, words the message must hold besides a range word)
     let rows: Vec<(Vec<&str>, i32, Vec<&str>)> = vec![
         // psd
+        // A device instead of a file is read without end: refused before reading (item 10).
+        (
+            vec!["psd", "/dev/zero", "--column", "x_m", "--out", "o"],
+            2,
+            vec!["/dev/zero", "regular file"],
+        ),
+        (
+            vec![
+                "cwt",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--fmin-hz",
+                "100",
+                "--fmax-hz",
+                "1000",
+                "--voices",
+                "100000",
+            ],
+            2,
+            vec!["--voices", "[1, 64]"],
+        ),
         (
             vec!["psd", &s, "--column", "x_m", "--out", "o", "--nperseg", "1"],
             2,
@@ -334,7 +358,22 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
                 "0",
             ],
             2,
-            vec!["--sample-rate-hz", "> 0 Hz"],
+            vec!["--sample-rate-hz", "[8000, 384000]"],
+        ),
+        // A rate that would resample for minutes into gigabytes (issue 53, item 10).
+        (
+            vec![
+                "wav",
+                &s,
+                "--column",
+                "x_m",
+                "--out",
+                "o",
+                "--sample-rate-hz",
+                "4000000000",
+            ],
+            2,
+            vec!["--sample-rate-hz", "[8000, 384000]"],
         ),
         (
             vec![

@@ -242,8 +242,50 @@ fn sigterm_stops_with_a_checkpoint_and_resume_goes_on() {
         "the first segment ran a preload: {first}"
     );
 
-    // Resume for 0.2 ms more: completes, and the histories go on without a gap or a repeat.
+    // A resume whose outputs were lost is refused, naming the file, and leaves the folder as
+    // it was: histories.csv deleted, contact_forces.csv cut to its first half.
     let end_ms = stopped_at_s * 1e3 + 0.2;
+    let damage: [(&str, fn(&Path)); 2] = [
+        ("histories.csv", |p| std::fs::remove_file(p).unwrap()),
+        ("contact_forces.csv", |p| {
+            let text = std::fs::read_to_string(p).unwrap();
+            let lines: Vec<&str> = text.lines().collect();
+            std::fs::write(p, lines[..lines.len() / 2].join("\n") + "\n").unwrap();
+        }),
+    ];
+    for (file, spoil) in damage {
+        let copy = dir.join(format!("damaged-{file}"));
+        std::fs::create_dir_all(&copy).unwrap();
+        for entry in std::fs::read_dir(&out).unwrap() {
+            let entry = entry.unwrap();
+            if entry.file_type().unwrap().is_file() {
+                std::fs::copy(entry.path(), copy.join(entry.file_name())).unwrap();
+            }
+        }
+        spoil(&copy.join(file));
+        let status_before = std::fs::read(copy.join("status.json")).unwrap();
+        let refused = squeal()
+            .args(["simulate", "--quiet", "--resume", "--case"])
+            .arg(&case)
+            .arg("--out")
+            .arg(&copy)
+            .args(["--end-time-ms", &format!("{end_ms}")])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&refused.stderr);
+        assert_eq!(refused.status.code(), Some(2), "{file}: {err}");
+        assert!(
+            err.contains(file) && err.contains("--resume"),
+            "{file}: {err}"
+        );
+        assert_eq!(
+            std::fs::read(copy.join("status.json")).unwrap(),
+            status_before,
+            "{file}: the refused resume rewrote status.json"
+        );
+    }
+
+    // Resume for 0.2 ms more: completes, and the histories go on without a gap or a repeat.
     resume_until(&case, &out, end_ms);
     let record = read_json(&out.join("status.json"));
     assert_eq!(record["status"], "completed", "{record}");

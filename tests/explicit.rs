@@ -347,6 +347,29 @@ fn resume_from_checkpoint_reproduces_the_uninterrupted_run() {
         .unwrap_err();
     assert_eq!(err.exit_code(), 2);
     assert!(err.to_string().contains("another model"), "{err}");
+    // A damaged checkpoint is refused before anything is resumed: a byte flipped anywhere
+    // (here in the state, past the header the other checks read, and in the last byte of
+    // the body), and a file cut short. The run directory's status is left as it was.
+    let ckpt = part_dir.join("checkpoint.bin");
+    let good = std::fs::read(&ckpt).unwrap();
+    let status_before = std::fs::read(part_dir.join("status.json")).unwrap();
+    for at in [100, good.len() / 2, good.len() - 17] {
+        let mut bad = good.clone();
+        bad[at] ^= 0x10;
+        std::fs::write(&ckpt, &bad).unwrap();
+        let mut again = checkpoint_model();
+        let err = run(&mut again, &mut NoAux, &o2).unwrap_err();
+        assert_eq!(err.exit_code(), 2, "byte {at}: {err}");
+        assert!(err.to_string().contains("damaged"), "byte {at}: {err}");
+        assert_eq!(
+            std::fs::read(part_dir.join("status.json")).unwrap(),
+            status_before,
+            "the status of the completed run was rewritten"
+        );
+    }
+    std::fs::write(&ckpt, &good[..good.len() - 40]).unwrap();
+    let mut again = checkpoint_model();
+    assert_eq!(run(&mut again, &mut NoAux, &o2).unwrap_err().exit_code(), 2);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

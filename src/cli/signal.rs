@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use squeal::output::{write_file_staged, Commit, StagedDir};
 use squeal::signal::peaks::DEFAULT_PEAK_COUNT;
-use squeal::signal::wav::DEFAULT_SAMPLE_RATE_HZ;
+use squeal::signal::wav::{DEFAULT_SAMPLE_RATE_HZ, SAMPLE_RATE_RANGE_HZ};
 use squeal::signal::wavelet::DEFAULT_VOICES_PER_OCTAVE;
 use squeal::signal::welch::{DEFAULT_NPERSEG, DEFAULT_OVERLAP_FRACTION};
 use squeal::signal::{
@@ -390,11 +390,15 @@ pub fn run_cwt(args: CwtArgs) -> Result<()> {
 pub fn run_wav(args: WavArgs) -> Result<()> {
     let series = args.input.read()?;
     // Checked before the output folder is made: a refused rate leaves nothing behind.
-    if args.sample_rate_hz == 0 {
+    let (lo, hi) = SAMPLE_RATE_RANGE_HZ;
+    if !(lo..=hi).contains(&args.sample_rate_hz) {
         return Err(Error::input(
             "command line",
             "--sample-rate-hz",
-            format!("must be > 0 Hz, e.g. {DEFAULT_SAMPLE_RATE_HZ}"),
+            format!(
+                "must be in [{lo}, {hi}] Hz, e.g. {DEFAULT_SAMPLE_RATE_HZ}, got {}",
+                args.sample_rate_hz
+            ),
         ));
     }
     // The previous release took the WAV file itself in --out: still accepted, with the note.

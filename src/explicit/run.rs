@@ -181,8 +181,8 @@ pub fn run<A: AuxForces + ?Sized>(
         let aux_state = read_checkpoint(solver, &ckpt_path)?;
         aux.restore_state(&aux_state)?;
         resumed_from = Some(solver.time_s);
-        truncate_csv_after(&hist_path, solver.time_s)?;
-        truncate_csv_after(&energy_path, solver.time_s)?;
+        resume_csv(&hist_path, solver.time_s)?;
+        resume_csv(&energy_path, solver.time_s)?;
     }
     let append = opts.resume;
     let open = |p: &Path| -> Result<BufWriter<File>> {
@@ -574,33 +574,87 @@ pub(crate) fn reconcile_csv_header(path: &Path, header: &str) -> Result<ColumnPl
 /// digits ([`push_num`]), up to 5e-10 of the time away from the exact one, so a row of the
 /// sample at `time_s` may read just below it: a row within 1e-9 of `time_s` (relative) counts as
 /// at `time_s`. Samples are always much further apart than that (20 us at 40 ms: 5e-4).
-pub(crate) fn truncate_csv_after(path: &Path, time_s: f64) -> Result<()> {
+/// Returns the times of the last two rows kept (None where there are fewer).
+pub(crate) fn truncate_csv_after(path: &Path, time_s: f64) -> Result<[Option<f64>; 2]> {
     let Ok(f) = File::open(path) else {
-        return Ok(());
+        return Ok([None, None]);
     };
     let mut kept = String::new();
+    let mut last = [None, None];
     for (k, line) in BufReader::new(f).lines().enumerate() {
         let line = line.map_err(io(path))?;
-        let keep = k == 0
-            || line
-                .split(',')
-                .next()
-                .and_then(|t| t.parse::<f64>().ok())
-                .is_some_and(|t| t < time_s - PRINTED_TIME_TOLERANCE * time_s.abs().max(1e-6));
-        if keep {
+        let row_time = line.split(',').next().and_then(|t| t.parse::<f64>().ok());
+        let before =
+            row_time.is_some_and(|t| t < time_s - PRINTED_TIME_TOLERANCE * time_s.abs().max(1e-6));
+        if k == 0 || before {
             kept.push_str(&line);
             kept.push('\n');
         }
+        if k > 0 && before {
+            last = [last[1], row_time];
+        }
     }
-    std::fs::write(path, kept).map_err(io(path))
+    std::fs::write(path, kept).map_err(io(path))?;
+    Ok([last[1], last[0]])
+}
+
+/// Prepares an output CSV of a run for its resume from `time_s`: the file must exist and
+/// reach the checkpoint (its last row no more than one row spacing, with 1 % to spare, before
+/// `time_s`); then its rows from `time_s` on are dropped, as [`truncate_csv_after`] does. A
+/// file that was deleted, cut or replaced would otherwise be written again with the resumed
+/// rows only, and the run would look complete while its record begins at the resume.
+pub(crate) fn resume_csv(path: &Path, time_s: f64) -> Result<()> {
+    let refuse = |why: String| {
+        Error::input(
+            path.display().to_string(),
+            "--resume",
+            format!(
+                "{why}: the run cannot go on from its checkpoint at {time_s:.6} s without its \
+                 rows up to there; restore the file, or start the run again without --resume"
+            ),
+        )
+    };
+    if !path.exists() {
+        return Err(refuse("the file is missing".into()));
+    }
+    let [last, previous] = truncate_csv_after(path, time_s)?;
+    let reaches = match (last, previous) {
+        (Some(l), Some(p)) => l >= time_s - 1.01 * (l - p).max(0.0),
+        // One row, before the checkpoint: no spacing to judge the gap by.
+        (Some(_), None) => true,
+        (None, _) => time_s <= 0.0,
+    };
+    if !reaches {
+        return Err(refuse(format!(
+            "the file's rows end at {} s",
+            last.map_or("(no row)".to_string(), |t| format!("{t:.6}"))
+        )));
+    }
+    Ok(())
 }
 
 /// Relative tolerance of a time read back from a CSV row (10 significant digits printed).
 const PRINTED_TIME_TOLERANCE: f64 = 1e-9;
 
-const MAGIC: &[u8; 8] = b"SQLCKPT1";
+/// Checkpoint layouts: version 2 ends with a checksum; version 1 (without one) is still read.
+const MAGIC: &[u8; 8] = b"SQLCKPT2";
+const MAGIC_V1: &[u8; 8] = b"SQLCKPT1";
+/// Marks the checksum that ends a version-2 checkpoint: FNV-1a (64 bit) of every byte before
+/// the mark. A flipped byte anywhere changes it (each byte passes through the multiply of
+/// every later one), so a damaged file is refused instead of resumed into a blow-up.
+const CHECKSUM_MARK: &[u8; 8] = b"SQLCSUM1";
 /// Marks the optional multi-rate tail of a checkpoint (after the auxiliary state).
 const MULTI_RATE_TAIL: &[u8; 8] = b"SQLMRAC1";
+
+/// FNV-1a (64 bit) of a byte string.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf29ce484222325;
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x100000001b3);
+    }
+    h
+}
 
 /// Fingerprint of a model: FNV-1a over node and element counts, reference coordinates and
 /// masses. A checkpoint of another model is refused.
@@ -684,6 +738,9 @@ pub fn write_checkpoint(solver: &Solver, aux_state: &[f64], path: &Path) -> Resu
             }
         }
     }
+    let checksum = fnv1a(&buf);
+    buf.extend_from_slice(CHECKSUM_MARK);
+    buf.extend_from_slice(&checksum.to_le_bytes());
     let tmp = path.with_extension("bin.tmp");
     std::fs::write(&tmp, &buf).map_err(io(&tmp))?;
     std::fs::rename(&tmp, path).map_err(io(path))
@@ -697,8 +754,21 @@ pub fn read_checkpoint(solver: &mut Solver, path: &Path) -> Result<Vec<f64>> {
         .read_to_end(&mut bytes)
         .map_err(io(path))?;
     let bad = |msg: &str| Error::input(path.display().to_string(), "checkpoint", msg.to_string());
-    if bytes.len() < 64 || &bytes[..8] != MAGIC {
+    if bytes.len() < 64 || (&bytes[..8] != MAGIC && &bytes[..8] != MAGIC_V1) {
         return Err(bad("not a squeal checkpoint (bad header)"));
+    }
+    if &bytes[..8] == MAGIC {
+        let body_len = bytes.len().saturating_sub(16);
+        let trailer = &bytes[body_len..];
+        let stored = u64::from_le_bytes(trailer[8..].try_into().expect("8 bytes"));
+        if &trailer[..8] != CHECKSUM_MARK || stored != fnv1a(&bytes[..body_len]) {
+            return Err(bad(
+                "the checkpoint is damaged (its checksum does not match its contents): the run \
+                 cannot go on from it; start it again without --resume (its outputs up to the \
+                 checkpoint are kept as they are)",
+            ));
+        }
+        bytes.truncate(body_len);
     }
     let mut pos = 8;
     let mut word = |bytes: &[u8]| -> Result<[u8; 8]> {

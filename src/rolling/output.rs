@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::instruments::{contact_kinematics, ContactKinematics, ContactPointRecord};
 use crate::contact::{patch, ContactPair};
-use crate::explicit::run::{push_num, truncate_csv_after, RunSummary};
+use crate::explicit::run::{push_num, resume_csv, RunSummary};
 use crate::explicit::solver::OutputFields;
 use crate::explicit::AuxForces;
 use crate::mesh::P3;
@@ -114,9 +114,9 @@ impl RollingContact {
         if self.writer.is_none() {
             // On resume, the first sample is the first after the checkpoint: rows from its time
             // on are rewritten.
-            let append = self.resuming && path.exists();
+            let append = self.resuming;
             if append {
-                truncate_csv_after(&path, time_s)?;
+                resume_csv(&path, time_s)?;
             }
             let file = std::fs::OpenOptions::new()
                 .create(true)

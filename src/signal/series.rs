@@ -26,6 +26,7 @@ impl TimeSeries {
     /// Reads column `column` of `path`; the sample rate comes from the `time_s` column, whose
     /// steps must all equal their mean within [`UNIFORM_STEP_TOLERANCE`] (relative).
     pub fn from_csv(path: &Path, column: &str) -> Result<Self> {
+        crate::table::check_table_file(path)?;
         let source = path.display().to_string();
         let file = std::fs::File::open(path)
             .map_err(|e| Error::input(source.clone(), "file", format!("cannot open: {e}")))?;

@@ -15,6 +15,10 @@ pub const PEAK_FRACTION_OF_FULL_SCALE: f64 = 0.9;
 /// Default audio sample rate (Hz): the CD rate, which every player plays.
 pub const DEFAULT_SAMPLE_RATE_HZ: u32 = 44_100;
 
+/// Audio sample rates accepted (Hz): 8 kHz (telephone) to 384 kHz (the highest rate common
+/// audio interfaces play); beyond, the resampled file only grows.
+pub const SAMPLE_RATE_RANGE_HZ: (u32, u32) = (8_000, 384_000);
+
 /// Converts a signal to 16-bit audio at `output_rate_hz`: resampled (windowed sinc, see
 /// [`resample`]), mean removed (a displacement's static offset is inaudible but would eat
 /// headroom), scaled so the largest magnitude is [`PEAK_FRACTION_OF_FULL_SCALE`] of 32767.
@@ -75,11 +79,14 @@ pub fn write_wav(
     input_rate_hz: f64,
     output_rate_hz: u32,
 ) -> Result<usize> {
-    if output_rate_hz == 0 {
+    let (lo, hi) = SAMPLE_RATE_RANGE_HZ;
+    if !(lo..=hi).contains(&output_rate_hz) {
         return Err(Error::input(
             "wav",
-            "rate",
-            "output sample rate must be > 0 Hz (e.g. 44100)",
+            "--sample-rate-hz",
+            format!(
+                "must be in [{lo}, {hi}] Hz (e.g. {DEFAULT_SAMPLE_RATE_HZ}), got {output_rate_hz}"
+            ),
         ));
     }
     let samples = to_pcm16(signal, input_rate_hz, output_rate_hz as f64)?;

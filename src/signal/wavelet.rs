@@ -44,6 +44,14 @@ pub const MORLET_OMEGA0: f64 = 6.0;
 /// between scales (the growth analysis relies on it, [`crate::analysis::growth`]).
 pub const DEFAULT_VOICES_PER_OCTAVE: usize = 16;
 
+/// Most scales per octave accepted.
+pub const MAX_VOICES_PER_OCTAVE: usize = 64;
+
+/// Largest wavelet power map computed (bytes of `f64` values): 2 GiB, a tenth of this
+/// project's 24 GB machines, so a mistaken band or stride is refused with the size instead of
+/// exhausting memory.
+pub const MAX_POWER_MAP_BYTES: usize = 2 << 30;
+
 /// Fourier period / scale for the Morlet wavelet, `4 pi / (w0 + sqrt(2 + w0^2))` (T&C Table 1).
 pub fn morlet_fourier_factor(omega0: f64) -> f64 {
     4.0 * PI / (omega0 + (2.0 + omega0 * omega0).sqrt())
@@ -87,11 +95,16 @@ impl Scales {
                 format!("{max_frequency_hz} Hz must be finite and > fmin = {min_frequency_hz} Hz"),
             ));
         }
-        if voices_per_octave == 0 {
+        // 64 voices resolve a ridge 1.1 % in frequency, far finer than the Morlet's own
+        // bandwidth; more only multiplies the memory (scales x samples x 8 bytes).
+        if !(1..=MAX_VOICES_PER_OCTAVE).contains(&voices_per_octave) {
             return Err(Error::input(
                 "cwt",
-                "voices",
-                "voices per octave must be >= 1",
+                "--voices",
+                format!(
+                    "voices per octave must be in [1, {MAX_VOICES_PER_OCTAVE}], got \
+                     {voices_per_octave}"
+                ),
             ));
         }
         let octaves_per_step = 1.0 / voices_per_octave as f64;
@@ -216,6 +229,20 @@ pub fn morlet_cwt(signal: &[f64], sample_rate_hz: f64, scales: &Scales) -> Resul
     let scale_s = scales.scales_s();
     if scale_s.is_empty() {
         return Err(Error::input("cwt", "scales", "no scales requested"));
+    }
+    let map_bytes = scale_s.len().saturating_mul(n).saturating_mul(8);
+    if map_bytes > MAX_POWER_MAP_BYTES {
+        return Err(Error::input(
+            "cwt",
+            "scales",
+            format!(
+                "{} scales x {n} samples need {:.1} GiB for the power map, more than the {} GiB \
+                 allowed: narrow the band, use fewer voices or a shorter record",
+                scale_s.len(),
+                map_bytes as f64 / (1u64 << 30) as f64,
+                MAX_POWER_MAP_BYTES >> 30
+            ),
+        ));
     }
     let nyquist_hz = sample_rate_hz / 2.0;
     for &s in &scale_s {
