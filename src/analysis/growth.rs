@@ -24,7 +24,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use crate::analysis::identify::ModeRef;
-use crate::signal::{morlet_cwt, Scales, TimeSeries};
+use crate::signal::{morlet_cwt, Scales, TimeSeries, WaveletPower};
 use crate::{Error, Result};
 
 /// Wavelet voices per octave over the bands.
@@ -147,13 +147,51 @@ pub fn bands_for_modes(
 /// Ridges and growth rates of `bands` in `series` from `from_s` on, over windows of
 /// `window_s`.
 ///
-/// Kept in one piece: the ridge, its windows and the fitted rates share the band's wavelet power.
+/// The phases: checks of the request, one wavelet power over all the bands (the FFT is shared),
+/// then per band its ridge and the growth fitted over each window of it.
 pub fn band_growth(
     series: &TimeSeries,
     bands: &[Band],
     from_s: f64,
     window_s: f64,
 ) -> Result<GrowthAnalysis> {
+    let start = check_growth_request(series, bands, from_s, window_s)?;
+    let fs = series.sample_rate_hz;
+    let values = &series.values[start..];
+    let f_lo = bands.iter().map(|b| b.low_hz).fold(f64::INFINITY, f64::min);
+    let f_hi = bands.iter().map(|b| b.high_hz).fold(0.0, f64::max);
+    let scales = Scales::from_frequency_band(0.95 * f_lo, 1.05 * f_hi, VOICES_PER_OCTAVE)?;
+    let power = morlet_cwt(values, fs, &scales)?;
+    let time_s: Vec<f64> = (0..values.len())
+        .map(|k| series.start_time_s + (start + k) as f64 / fs)
+        .collect();
+    let mut out = Vec::new();
+    for b in bands {
+        let (ridge, ridge_f) = band_ridge(&power, b, values.len(), fs);
+        let windows = window_growth(&time_s, &ridge, window_s);
+        out.push(BandGrowth {
+            band: b.clone(),
+            ridge,
+            ridge_frequency_hz: ridge_f,
+            windows,
+        });
+    }
+    Ok(GrowthAnalysis {
+        column: series.column.clone(),
+        time_s,
+        bands: out,
+    })
+}
+
+/// The request must be analysable: at least one band, each below the Nyquist frequency, a
+/// positive window, and at least 16 samples from `from_s` to the record's end. Returns the
+/// first sample analysed.
+fn check_growth_request(
+    series: &TimeSeries,
+    bands: &[Band],
+    from_s: f64,
+    window_s: f64,
+) -> Result<usize> {
     if bands.is_empty() {
         return Err(Error::input(
             "command line",
@@ -193,80 +231,72 @@ pub fn band_growth(
             ),
         ));
     }
-    let values = &series.values[start..];
-    let f_lo = bands.iter().map(|b| b.low_hz).fold(f64::INFINITY, f64::min);
-    let f_hi = bands.iter().map(|b| b.high_hz).fold(0.0, f64::max);
-    let scales = Scales::from_frequency_band(0.95 * f_lo, 1.05 * f_hi, VOICES_PER_OCTAVE)?;
-    let power = morlet_cwt(values, fs, &scales)?;
-    let time_s: Vec<f64> = (0..values.len())
-        .map(|k| series.start_time_s + (start + k) as f64 / fs)
+    Ok(start)
+}
+
+/// The ridge of band `b` in `power` over its `n_values` time samples: per sample, the
+/// amplitude of the tone that gives the band's largest power (module docs) and the frequency
+/// where it lies; NaN outside the cone of influence of the band's lowest frequency.
+fn band_ridge(power: &WaveletPower, b: &Band, n_values: usize, fs: f64) -> (Vec<f64>, Vec<f64>) {
+    let js: Vec<usize> = (0..power.frequency_count())
+        .filter(|&j| power.frequency_hz[j] >= b.low_hz && power.frequency_hz[j] <= b.high_hz)
         .collect();
-    let mut out = Vec::new();
-    for b in bands {
-        let js: Vec<usize> = (0..power.frequency_count())
-            .filter(|&j| power.frequency_hz[j] >= b.low_hz && power.frequency_hz[j] <= b.high_hz)
-            .collect();
-        // The band's lowest frequency has the widest cone.
-        let widest = js
-            .iter()
-            .copied()
-            .min_by(|&a, &c| power.frequency_hz[a].total_cmp(&power.frequency_hz[c]));
-        let mut ridge = vec![f64::NAN; values.len()];
-        let mut ridge_f = vec![f64::NAN; values.len()];
-        for n in 0..values.len() {
-            if js.is_empty() || widest.is_some_and(|w| !power.is_reliable(n, w)) {
-                continue;
-            }
-            let (j, p) = js.iter().map(|&j| (j, power.power_at(n, j))).fold(
-                (js[0], f64::NEG_INFINITY),
-                |a, c| if c.1 > a.1 { c } else { a },
-            );
-            let scale_s = power.scale_s[j];
-            ridge[n] = 2.0
-                * std::f64::consts::PI.powf(0.25)
-                * (1.0 / (fs * std::f64::consts::TAU * scale_s)).sqrt()
-                * p.max(0.0).sqrt();
-            ridge_f[n] = power.frequency_hz[j];
+    // The band's lowest frequency has the widest cone.
+    let widest = js
+        .iter()
+        .copied()
+        .min_by(|&a, &c| power.frequency_hz[a].total_cmp(&power.frequency_hz[c]));
+    let mut ridge = vec![f64::NAN; n_values];
+    let mut ridge_f = vec![f64::NAN; n_values];
+    for n in 0..n_values {
+        if js.is_empty() || widest.is_some_and(|w| !power.is_reliable(n, w)) {
+            continue;
         }
-        let mut windows = Vec::new();
-        let mut w0 = time_s[0];
-        let end = *time_s.last().unwrap_or(&w0);
-        while w0 + 0.5 * window_s < end {
-            let w1 = (w0 + window_s).min(end);
-            let pts: Vec<(f64, f64)> = time_s
-                .iter()
-                .zip(&ridge)
-                .filter(|(t, a)| **t >= w0 && **t < w1 && a.is_finite() && **a > 0.0)
-                .map(|(t, a)| (*t, a.ln()))
-                .collect();
-            let all: Vec<f64> = time_s
-                .iter()
-                .zip(&ridge)
-                .filter(|(t, a)| **t >= w0 && **t < w1 && a.is_finite())
-                .map(|(_, a)| *a)
-                .collect();
-            let mean_amplitude =
-                (!all.is_empty()).then(|| all.iter().sum::<f64>() / all.len() as f64);
-            windows.push(WindowGrowth {
-                from_s: w0,
-                to_s: w1,
-                mean_amplitude,
-                growth_rate_per_s: (pts.len() >= 8).then(|| slope(&pts)),
-            });
-            w0 = w1;
-        }
-        out.push(BandGrowth {
-            band: b.clone(),
-            ridge,
-            ridge_frequency_hz: ridge_f,
-            windows,
-        });
+        let (j, p) = js.iter().map(|&j| (j, power.power_at(n, j))).fold(
+            (js[0], f64::NEG_INFINITY),
+            |a, c| if c.1 > a.1 { c } else { a },
+        );
+        let scale_s = power.scale_s[j];
+        ridge[n] = 2.0
+            * std::f64::consts::PI.powf(0.25)
+            * (1.0 / (fs * std::f64::consts::TAU * scale_s)).sqrt()
+            * p.max(0.0).sqrt();
+        ridge_f[n] = power.frequency_hz[j];
     }
-    Ok(GrowthAnalysis {
-        column: series.column.clone(),
-        time_s,
-        bands: out,
-    })
+    (ridge, ridge_f)
+}
+
+/// The ridge's growth over consecutive windows of `window_s` (the last one shorter, down to
+/// half a window): the mean amplitude of its reliable samples and the least-squares slope of
+/// `ln A` against time, from 8 positive samples on.
+fn window_growth(time_s: &[f64], ridge: &[f64], window_s: f64) -> Vec<WindowGrowth> {
+    let mut windows = Vec::new();
+    let mut w0 = time_s[0];
+    let end = *time_s.last().unwrap_or(&w0);
+    while w0 + 0.5 * window_s < end {
+        let w1 = (w0 + window_s).min(end);
+        let pts: Vec<(f64, f64)> = time_s
+            .iter()
+            .zip(ridge)
+            .filter(|(t, a)| **t >= w0 && **t < w1 && a.is_finite() && **a > 0.0)
+            .map(|(t, a)| (*t, a.ln()))
+            .collect();
+        let all: Vec<f64> = time_s
+            .iter()
+            .zip(ridge)
+            .filter(|(t, a)| **t >= w0 && **t < w1 && a.is_finite())
+            .map(|(_, a)| *a)
+            .collect();
+        let mean_amplitude = (!all.is_empty()).then(|| all.iter().sum::<f64>() / all.len() as f64);
+        windows.push(WindowGrowth {
+            from_s: w0,
+            to_s: w1,
+            mean_amplitude,
+            growth_rate_per_s: (pts.len() >= 8).then(|| slope(&pts)),
+        });
+        w0 = w1;
+    }
+    windows
 }
 
 /// Least-squares slope of y against x.

@@ -211,17 +211,13 @@ pub fn lumped_masses(x: &[P3; 8], density_kg_per_m3: f64) -> Option<[f64; 8]> {
     Some(m)
 }
 
-/// Rounds to the nearest single-precision number (kept as f64).
-fn single(x: f64) -> f64 {
-    x as f32 as f64
-}
-
 /// Data of one one-point element.
 ///
 /// Single-precision geometry: the fast kernel ([`super::batch`]) streams every element's data
 /// from memory once per step and is bound by the bytes moved, so it stores the gradients, the
 /// hourglass axes and the coefficients as f32 (as LS-DYNA's default single-precision build
-/// does). They are rounded here, so that this (reference) element and the batched kernel use
+/// does). They are rounded when the record is built (`OnePointElement::new`, in
+/// `one_point_setup.rs`), so that this (reference) element and the batched kernel use
 /// identical values. Rounding must not break the invariances the issue asks for exactly:
 /// - translation: the last gradient is minus the sum of the others, so `sum_a b_a = 0` holds to
 ///   f64 rounding (the wheelset travels more than a metre);
@@ -259,147 +255,6 @@ pub struct OnePointElement {
     pub axes_ref: [[f64; 3]; 3],
     /// Reference volume (m^3).
     pub volume_m3: f64,
-}
-
-impl OnePointElement {
-    /// Precompute from reference coordinates.
-    ///
-    /// Kept in one piece: the element record's fields are computed in the order they depend on each
-    /// other.
-    pub fn new(
-        nodes: [usize; 8],
-        x: &[P3; 8],
-        mat: &ElasticMaterial,
-        hourglass: Hourglass,
-    ) -> Option<Self> {
-        let (_, det_centre) = reference_gradients(x, [0.0; 3])?;
-        // Exact volume of the trilinear map (det J has degree <= 2 per direction, which the
-        // 2x2x2 rule integrates exactly) and the mean gradient b_a = (1/V) integral(dN_a/dX dV)
-        // of Flanagan & Belytschko (det J dN/dX = cof(J)^T dN/dxi has degree <= 3 per direction:
-        // also exact). With the mean gradient a constant stress gives exactly the consistent
-        // nodal forces on distorted elements (the patch test), and sum_a b_a X_a^T = I still holds.
-        let mut volume = 0.0;
-        let mut grad = [[0.0; 8]; 3];
-        for p in gauss_2x2x2() {
-            let (b, det) = reference_gradients(x, p)?;
-            volume += det;
-            for j in 0..3 {
-                for a in 0..8 {
-                    grad[j][a] += det * b[j][a];
-                }
-            }
-        }
-        for row in grad.iter_mut() {
-            for g in row.iter_mut() {
-                *g /= volume;
-            }
-        }
-        if !(volume > 0.0) || !(det_centre > 0.0) {
-            return None;
-        }
-        // Single-precision gradients, the last one closing the sum (see the struct doc).
-        for row in grad.iter_mut() {
-            let mut sum = 0.0;
-            for g in row.iter_mut().take(7) {
-                *g = single(*g);
-                sum += *g;
-            }
-            row[7] = 0.0 - sum;
-        }
-        let mut stretch_ref = [[0.0; 3]; 3];
-        for i in 0..3 {
-            for j in 0..3 {
-                for a in 0..8 {
-                    stretch_ref[i][j] += x[a][i] * grad[j][a];
-                }
-            }
-        }
-        let det_stretch = det3(&stretch_ref);
-        if !(det_stretch > 0.0) {
-            return None;
-        }
-        let stretch_inv = inverse3(&stretch_ref, det_stretch);
-        let mut stretch_delta = [[0.0; 3]; 3];
-        for i in 0..3 {
-            for j in 0..3 {
-                let identity = if i == j { 1.0 } else { 0.0 };
-                stretch_delta[i][j] = single(stretch_ref[i][j] - identity);
-            }
-        }
-        let mut hourglass_ref = [[0.0; 3]; 4];
-        for (alpha, h) in HOURGLASS_BASE.iter().enumerate() {
-            let mut hx = [0.0; 3];
-            for a in 0..8 {
-                for j in 0..3 {
-                    hx[j] += h[a] * x[a][j];
-                }
-            }
-            for i in 0..3 {
-                hourglass_ref[alpha][i] = stretch_inv[i][0] * hx[0]
-                    + stretch_inv[i][1] * hx[1]
-                    + stretch_inv[i][2] * hx[2];
-            }
-        }
-        let (lambda, mu) = (mat.lambda_pa(), mat.mu_pa());
-        let grad_sq: f64 = grad.iter().flat_map(|r| r.iter()).map(|g| g * g).sum();
-        // Half lengths a_r = |dX/dxi_r| at the centre.
-        let mut axes_ref = [[0.0; 3]; 3];
-        for (a, c) in NODE_NATURAL.iter().enumerate() {
-            for r in 0..3 {
-                for j in 0..3 {
-                    axes_ref[r][j] += 0.125 * c[r] * x[a][j];
-                }
-            }
-        }
-        let half: [f64; 3] = axes_ref.map(|t| (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt());
-        let mut hourglass_axis_coef = [[0.0; 3]; 4];
-        if let Hourglass::Physical { scale } = hourglass {
-            // Modes xi eta, eta zeta, xi zeta: pair (r, s) and the third axis t. With the
-            // unnormalised generalised displacement q = 8 d: bending along r stores
-            // E (d/a_r)^2 V / 6 = E V q^2 / (2 * 192 a_r^2); the out-of-pair direction carries the
-            // shears G d^2 V (1/a_r^2 + 1/a_s^2) / 6. Mode xi eta zeta: E V q^2 / (2 * 576 a_r^2).
-            let (e, g) = (mat.youngs_modulus_pa, mu);
-            for (alpha, (r, s, t)) in [(0usize, 1usize, 2usize), (1, 2, 0), (0, 2, 1)]
-                .into_iter()
-                .enumerate()
-            {
-                let (ar2, as2) = (half[r] * half[r], half[s] * half[s]);
-                hourglass_axis_coef[alpha][r] = scale * e * volume / (192.0 * ar2);
-                hourglass_axis_coef[alpha][s] = scale * e * volume / (192.0 * as2);
-                hourglass_axis_coef[alpha][t] =
-                    scale * g * volume * (1.0 / ar2 + 1.0 / as2) / 192.0;
-            }
-            for r in 0..3 {
-                hourglass_axis_coef[3][r] = scale * e * volume / (576.0 * half[r] * half[r]);
-            }
-        }
-        let hourglass_coef = match hourglass {
-            Hourglass::Physical { .. } => 0.0,
-            Hourglass::Stiffness { kappa } => kappa * (lambda + 2.0 * mu) * volume * grad_sq / 96.0,
-            Hourglass::Viscous { kappa } => {
-                // Flanagan-Belytschko viscous form: c = kappa rho c_L V^(2/3) / 4 on the mode
-                // amplitudes q/8, hence the 1/64 on our unnormalised g.
-                kappa
-                    * mat.density_kg_per_m3
-                    * mat.dilatational_wave_speed_m_per_s()
-                    * volume.powf(2.0 / 3.0)
-                    / 4.0
-                    / 64.0
-            }
-        };
-        Some(OnePointElement {
-            nodes: nodes.map(|n| n as u32),
-            grad,
-            stretch_delta,
-            hourglass_ref,
-            lambda_vol: single(lambda * volume),
-            two_mu_vol: single(2.0 * mu * volume),
-            hourglass_coef: single(hourglass_coef),
-            hourglass_axis_coef: hourglass_axis_coef.map(|r| r.map(single)),
-            axes_ref: axes_ref.map(|r| r.map(single)),
-            volume_m3: volume,
-        })
-    }
 }
 
 /// What a kernel call returns besides the forces (only filled when asked for).

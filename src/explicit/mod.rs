@@ -29,6 +29,7 @@ pub mod linearised;
 pub mod model;
 pub mod multirate;
 mod node_update;
+mod one_point_setup;
 pub mod phase_clock;
 pub mod preload;
 mod rigid_body;

@@ -37,7 +37,7 @@ use super::element::{
     full_forces, one_point_forces, ElementEnergy, FullElement, KernelOptions, OnePointElement,
 };
 use super::levels::LevelWork;
-use super::model::{Elements, Model, MotionKind};
+use super::model::{Elements, Model, MotionKind, RigidBodySpec};
 use super::node_update::NodeUpdate;
 use super::phase_clock::{PhaseClock, StepPhase};
 use super::rotation::{cross, dot, mat_mul, mat_vec, transpose};
@@ -106,139 +106,201 @@ pub struct Solver {
     pub(super) tie_gather_aux: Option<super::tie_update::TieGather>,
 }
 
+/// Ties in the node roles and masses: marks each slave (a node may be the slave of one tie
+/// only, and no master may be a slave: chained ties are refused), and condenses the slave's
+/// mass onto its masters.
+fn condense_ties(model: &Model, eff_mass: &mut [f64], role: &mut [u8]) -> Result<()> {
+    // Ties: the slave's mass goes to its masters with the interpolation weights (row sum
+    // of T^T M T for a lumped M).
+    for p in &model.ties {
+        if role[p.slave] & ROLE_SLAVE != 0 {
+            return Err(Error::Mesh(format!(
+                "node {} is the slave of two ties",
+                p.slave
+            )));
+        }
+        role[p.slave] |= ROLE_SLAVE;
+    }
+    for p in &model.ties {
+        for m in p.master {
+            if role[m] & ROLE_SLAVE != 0 {
+                return Err(Error::Mesh(format!(
+                    "node {m} is both a tie master and a tie slave (chained ties)"
+                )));
+            }
+        }
+        let ms = eff_mass[p.slave];
+        for (k, m) in p.master.iter().enumerate() {
+            eff_mass[*m] += p.weights[k] * ms;
+        }
+        eff_mass[p.slave] = 0.0;
+    }
+    Ok(())
+}
+
+/// Marks the prescribed directions of each prescribed motion's nodes in the node roles.
+fn mark_prescribed(model: &Model, role: &mut [u8]) {
+    for pm in &model.prescribed {
+        for &nd in &pm.nodes {
+            role[nd] |= 1 << (pm.direction as u8 + PRESCRIBED_SHIFT);
+        }
+    }
+}
+
+/// The rigid bodies' initial states, in the model's order (after the ties: a tie slave cannot
+/// be a member), their members marked rigid in the node roles.
+fn gather_rigid_bodies(
+    model: &Model,
+    eff_mass: &[f64],
+    role: &mut [u8],
+) -> Result<Vec<RigidState>> {
+    let mut rigid = Vec::new();
+    for rb in &model.rigid_bodies {
+        rigid.push(rigid_body_state(rb, &model.mesh.nodes, eff_mass, role)?);
+    }
+    Ok(rigid)
+}
+
+/// One rigid body at rest in its reference orientation: mass and centre of its members'
+/// effective masses, inertia about the centre (regularised, so that it has an inverse).
+fn rigid_body_state(
+    rb: &RigidBodySpec,
+    nodes: &[P3],
+    eff_mass: &[f64],
+    role: &mut [u8],
+) -> Result<RigidState> {
+    let mut mass = 0.0;
+    let mut c = [0.0; 3];
+    for &nd in &rb.nodes {
+        if role[nd] & ROLE_SLAVE != 0 {
+            return Err(Error::Mesh(format!(
+                "rigid body {}: node {nd} is a tie slave",
+                rb.name
+            )));
+        }
+        role[nd] |= ROLE_RIGID;
+        let m = eff_mass[nd];
+        mass += m;
+        for i in 0..3 {
+            c[i] += m * nodes[nd][i];
+        }
+    }
+    if !(mass > 0.0) {
+        return Err(Error::input("model", &rb.name, "rigid body has no mass"));
+    }
+    c = c.map(|x| x / mass);
+    let mut inertia = [[0.0; 3]; 3];
+    for &nd in &rb.nodes {
+        let m = eff_mass[nd];
+        let r = [0, 1, 2].map(|i| nodes[nd][i] - c[i]);
+        let r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+        for i in 0..3 {
+            for j in 0..3 {
+                inertia[i][j] += m * (if i == j { r2 } else { 0.0 } - r[i] * r[j]);
+            }
+        }
+    }
+    // A rigid set on a line (or one node) has a singular inertia: regularise with a
+    // tiny isotropic part so that the inverse exists (its rotation is then free).
+    let trace = inertia[0][0] + inertia[1][1] + inertia[2][2];
+    let reg = 1e-9 * trace.max(mass * 1e-12);
+    for (i, row) in inertia.iter_mut().enumerate() {
+        row[i] += reg;
+    }
+    let det = super::element::det3(&inertia);
+    let inertia0_inv = super::element::inverse3(&inertia, det);
+    Ok(RigidState {
+        mass_kg: mass,
+        centre0_m: c,
+        centre_m: c,
+        velocity_m_per_s: [0.0; 3],
+        rotation: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        angular_momentum: [0.0; 3],
+        inertia0: inertia,
+        inertia0_inv,
+    })
+}
+
+/// Inverse masses of the free nodes (tie slaves and rigid members move with their masters
+/// and bodies, and keep 0); a free node without mass is refused.
+fn inverse_masses(eff_mass: &[f64], role: &[u8]) -> Result<Vec<f64>> {
+    let n = eff_mass.len();
+    let mut inv_mass = vec![0.0; n];
+    for i in 0..n {
+        if role[i] & (ROLE_SLAVE | ROLE_RIGID) == 0 {
+            if !(eff_mass[i] > 0.0) {
+                return Err(Error::Mesh(format!(
+                    "node {i} has no mass (not in any element and no point mass)"
+                )));
+            }
+            inv_mass[i] = 1.0 / eff_mass[i];
+        }
+    }
+    Ok(inv_mass)
+}
+
+/// Colours of element blocks: per colour, the element (or batch) ranges of its blocks.
+type Colours = Vec<Vec<Range<usize>>>;
+
+/// The element records' layout: the packed batches of the fast path (empty otherwise) and the
+/// colours of their blocks (or of the plain elements' blocks), so that no two blocks of one
+/// colour share a node.
+fn element_layout(model: &Model, n: usize) -> Result<(Vec<ElementBatch>, Colours)> {
+    // Fast path: one-point elements without element damping run four at a time.
+    let fast = matches!(model.elements, Elements::OnePoint(_))
+        && !model.viscous_hourglass
+        && model.stiffness_damping_s == 0.0;
+    let batches: Vec<ElementBatch> = match &model.elements {
+        Elements::OnePoint(els) if fast => els.chunks(LANES).map(ElementBatch::pack).collect(),
+        _ => Vec::new(),
+    };
+    let colours = if fast {
+        colour_blocks(batches.len(), BLOCK_ELEMENTS / LANES, n, |b| {
+            batches[b]
+                .nodes
+                .iter()
+                .flat_map(|lanes| lanes.iter().copied())
+                .collect()
+        })?
+    } else {
+        colour_blocks(model.elements.len(), BLOCK_ELEMENTS, n, |e| {
+            model.elements.nodes(e).to_vec()
+        })?
+    };
+    Ok((batches, colours))
+}
+
+/// The nodes of springs and loads, sorted and each once: the discrete parts' nodes, whose
+/// previous velocities the solver keeps beside them for the work of springs and loads.
+fn discrete_part_nodes(model: &Model) -> Vec<usize> {
+    let mut discrete_nodes: Vec<usize> = model
+        .springs
+        .iter()
+        .flat_map(|s| std::iter::once(s.node_a).chain(s.node_b))
+        .chain(model.loads.iter().flat_map(|l| l.nodes.iter().copied()))
+        .collect();
+    discrete_nodes.sort_unstable();
+    discrete_nodes.dedup();
+    discrete_nodes
+}
+
 impl Solver {
     /// Prepares the solver: effective masses (ties condensed, rigid bodies gathered), colours,
     /// time step `0.9 x` the stable step (or `dt_s` if given and stable).
     ///
-    /// Kept in one piece: the solver's arrays are laid out in the order they depend on each other
-    /// (masses, ties, colours, element records, step bounds).
+    /// The arrays are laid out in the order they depend on each other: masses and node roles
+    /// (ties, prescribed motions, rigid bodies), inverse masses, element records and colours,
+    /// the discrete parts' nodes, then the step bounds of the assembled solver.
     pub fn new(model: Model, dt_s: Option<f64>) -> Result<Solver> {
         let n = model.node_count();
         let mut eff_mass = model.nodal_mass_kg.clone();
         let mut role = model.fixed.clone();
-        // Ties: the slave's mass goes to its masters with the interpolation weights (row sum
-        // of T^T M T for a lumped M).
-        for p in &model.ties {
-            if role[p.slave] & ROLE_SLAVE != 0 {
-                return Err(Error::Mesh(format!(
-                    "node {} is the slave of two ties",
-                    p.slave
-                )));
-            }
-            role[p.slave] |= ROLE_SLAVE;
-        }
-        for p in &model.ties {
-            for m in p.master {
-                if role[m] & ROLE_SLAVE != 0 {
-                    return Err(Error::Mesh(format!(
-                        "node {m} is both a tie master and a tie slave (chained ties)"
-                    )));
-                }
-            }
-            let ms = eff_mass[p.slave];
-            for (k, m) in p.master.iter().enumerate() {
-                eff_mass[*m] += p.weights[k] * ms;
-            }
-            eff_mass[p.slave] = 0.0;
-        }
-        for pm in &model.prescribed {
-            for &nd in &pm.nodes {
-                role[nd] |= 1 << (pm.direction as u8 + PRESCRIBED_SHIFT);
-            }
-        }
-        let mut rigid = Vec::new();
-        for rb in &model.rigid_bodies {
-            let mut mass = 0.0;
-            let mut c = [0.0; 3];
-            for &nd in &rb.nodes {
-                if role[nd] & ROLE_SLAVE != 0 {
-                    return Err(Error::Mesh(format!(
-                        "rigid body {}: node {nd} is a tie slave",
-                        rb.name
-                    )));
-                }
-                role[nd] |= ROLE_RIGID;
-                let m = eff_mass[nd];
-                mass += m;
-                for i in 0..3 {
-                    c[i] += m * model.mesh.nodes[nd][i];
-                }
-            }
-            if !(mass > 0.0) {
-                return Err(Error::input("model", &rb.name, "rigid body has no mass"));
-            }
-            c = c.map(|x| x / mass);
-            let mut inertia = [[0.0; 3]; 3];
-            for &nd in &rb.nodes {
-                let m = eff_mass[nd];
-                let r = [0, 1, 2].map(|i| model.mesh.nodes[nd][i] - c[i]);
-                let r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-                for i in 0..3 {
-                    for j in 0..3 {
-                        inertia[i][j] += m * (if i == j { r2 } else { 0.0 } - r[i] * r[j]);
-                    }
-                }
-            }
-            // A rigid set on a line (or one node) has a singular inertia: regularise with a
-            // tiny isotropic part so that the inverse exists (its rotation is then free).
-            let trace = inertia[0][0] + inertia[1][1] + inertia[2][2];
-            let reg = 1e-9 * trace.max(mass * 1e-12);
-            for (i, row) in inertia.iter_mut().enumerate() {
-                row[i] += reg;
-            }
-            let det = super::element::det3(&inertia);
-            let inertia0_inv = super::element::inverse3(&inertia, det);
-            rigid.push(RigidState {
-                mass_kg: mass,
-                centre0_m: c,
-                centre_m: c,
-                velocity_m_per_s: [0.0; 3],
-                rotation: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-                angular_momentum: [0.0; 3],
-                inertia0: inertia,
-                inertia0_inv,
-            });
-        }
-        let mut inv_mass = vec![0.0; n];
-        for i in 0..n {
-            if role[i] & (ROLE_SLAVE | ROLE_RIGID) == 0 {
-                if !(eff_mass[i] > 0.0) {
-                    return Err(Error::Mesh(format!(
-                        "node {i} has no mass (not in any element and no point mass)"
-                    )));
-                }
-                inv_mass[i] = 1.0 / eff_mass[i];
-            }
-        }
-        // Fast path: one-point elements without element damping run four at a time.
-        let fast = matches!(model.elements, Elements::OnePoint(_))
-            && !model.viscous_hourglass
-            && model.stiffness_damping_s == 0.0;
-        let batches: Vec<ElementBatch> = match &model.elements {
-            Elements::OnePoint(els) if fast => els.chunks(LANES).map(ElementBatch::pack).collect(),
-            _ => Vec::new(),
-        };
-        let colours = if fast {
-            colour_blocks(batches.len(), BLOCK_ELEMENTS / LANES, n, |b| {
-                batches[b]
-                    .nodes
-                    .iter()
-                    .flat_map(|lanes| lanes.iter().copied())
-                    .collect()
-            })?
-        } else {
-            colour_blocks(model.elements.len(), BLOCK_ELEMENTS, n, |e| {
-                model.elements.nodes(e).to_vec()
-            })?
-        };
-        let mut discrete_nodes: Vec<usize> = model
-            .springs
-            .iter()
-            .flat_map(|s| std::iter::once(s.node_a).chain(s.node_b))
-            .chain(model.loads.iter().flat_map(|l| l.nodes.iter().copied()))
-            .collect();
-        discrete_nodes.sort_unstable();
-        discrete_nodes.dedup();
+        condense_ties(&model, &mut eff_mass, &mut role)?;
+        mark_prescribed(&model, &mut role);
+        let rigid = gather_rigid_bodies(&model, &eff_mass, &mut role)?;
+        let inv_mass = inverse_masses(&eff_mass, &role)?;
+        let (batches, colours) = element_layout(&model, n)?;
+        let discrete_nodes = discrete_part_nodes(&model);
         let n_chunks = n.div_ceil(NODE_CHUNK);
         let kernel = KernelOptions {
             viscous_hourglass: model.viscous_hourglass,
@@ -285,8 +347,16 @@ impl Solver {
             tie_gather_aux: None,
             model,
         };
-        let stable = solver.stable_time_step_s()?;
-        solver.dt_s = match dt_s {
+        solver.set_initial_time_step(dt_s)?;
+        Ok(solver)
+    }
+
+    /// The step of a new solver: `COURANT_FACTOR x` the stable step, or `dt_s` if given and
+    /// stable (a larger one is refused, naming what sets the limit); the unscaled step starts
+    /// equal to it.
+    fn set_initial_time_step(&mut self, dt_s: Option<f64>) -> Result<()> {
+        let stable = self.stable_time_step_s()?;
+        self.dt_s = match dt_s {
             None => COURANT_FACTOR * stable.0,
             Some(dt) if dt > 0.0 && dt <= stable.0 => dt,
             Some(dt) => {
@@ -300,8 +370,8 @@ impl Solver {
                 ))
             }
         };
-        solver.unscaled_dt_s = solver.dt_s;
-        Ok(solver)
+        self.unscaled_dt_s = self.dt_s;
+        Ok(())
     }
 
     /// Sets an initial velocity field `v = v0 + omega x (X - centre)` on `nodes` (all when None),

@@ -131,10 +131,22 @@ pub const RIM_WIDTH_MM: f64 = s1002::S_FIELD_FACE_MM - s1002::S_FLANGE_BACK_MM;
 impl WheelSpec {
     /// Check every field against its allowed range; errors name `source_name` and the field.
     ///
-    /// Kept in one piece: a flat list of checks, one per field in the file's order, each naming its
-    /// field and range.
+    /// The checks run part by part (radius and rim, web, hub, axle profile, material and mesh),
+    /// in the file's order, so the first failing field is the one reported.
     pub fn validate(&self, source_name: &str) -> Result<()> {
         let c = Checker { source_name };
+        self.check_radius_and_rim(&c)?;
+        self.check_web(&c)?;
+        self.check_hub(&c)?;
+        if let Some(axle) = &self.axle {
+            self.check_axle(axle, &c)?;
+        }
+        self.check_material_and_mesh(&c)
+    }
+
+    /// Nominal radius and rim inner radius: the rim must leave room for the hub below it and
+    /// for the tread above it (20 mm each way), so the web has a height to span.
+    fn check_radius_and_rim(&self, c: &Checker) -> Result<()> {
         c.within("nominal_radius_mm", self.nominal_radius_mm, 200.0, 1000.0)?;
         let tread_min_radius = self.nominal_radius_mm + s1002::height_mm(s1002::S_FIELD_FACE_MM);
         c.within(
@@ -142,7 +154,13 @@ impl WheelSpec {
             self.rim_inner_radius_mm,
             self.hub.outer_radius_mm + 20.0,
             tread_min_radius - 20.0,
-        )?;
+        )
+    }
+
+    /// Web thicknesses and where the web meets the rim: the web must fit within the rim's
+    /// width (5 mm clear of either face), so the rim zone of the mesh has material on both
+    /// sides of the web.
+    fn check_web(&self, c: &Checker) -> Result<()> {
         let w = &self.web;
         c.within(
             "web.thickness_at_rim_mm",
@@ -168,7 +186,13 @@ impl WheelSpec {
             w.centre_at_rim_mm - 0.5 * w.thickness_at_rim_mm >= rim_lo && w.centre_at_rim_mm + 0.5 * w.thickness_at_rim_mm <= rim_hi,
             "web.centre_at_rim_mm",
             || format!("web at the rim must lie within S = [{rim_lo}, {rim_hi}] mm, got centre {} with thickness {}", w.centre_at_rim_mm, w.thickness_at_rim_mm),
-        )?;
+        )
+    }
+
+    /// Hub radii and width, then where the web meets the hub: the web seat is checked after
+    /// the hub's own extent (3 mm clear of either end), since it is measured against it.
+    fn check_hub(&self, c: &Checker) -> Result<()> {
+        let w = &self.web;
         let h = &self.hub;
         c.positive("hub.bore_radius_mm", h.bore_radius_mm)?;
         c.within(
@@ -190,55 +214,67 @@ impl WheelSpec {
             w.centre_at_hub_mm - 0.5 * w.thickness_at_hub_mm >= hub_lo && w.centre_at_hub_mm + 0.5 * w.thickness_at_hub_mm <= hub_hi,
             "web.centre_at_hub_mm",
             || format!("web at the hub must lie within S = [{hub_lo}, {hub_hi}] mm, got centre {} with thickness {}", w.centre_at_hub_mm, w.thickness_at_hub_mm),
-        )?;
-        if let Some(axle) = &self.axle {
-            let p = &axle.profile_mm;
-            c.require(p.len() >= 2, "axle.profile_mm", || {
-                "needs at least two [S_mm, radius_mm] points".into()
-            })?;
-            for (i, pt) in p.iter().enumerate() {
-                c.positive(&format!("axle.profile_mm[{i}][1]"), pt[1])?;
+        )
+    }
+
+    /// The half-axle profile: positive radii no larger than the hub bore, S strictly
+    /// increasing, reaching 10 mm past the hub on both sides with the bore radius over the hub
+    /// (the hub sits on the wheel seat), and the bearing centre between the hub and the journal
+    /// end.
+    fn check_axle(&self, axle: &AxleSpec, c: &Checker) -> Result<()> {
+        let h = &self.hub;
+        let p = &axle.profile_mm;
+        c.require(p.len() >= 2, "axle.profile_mm", || {
+            "needs at least two [S_mm, radius_mm] points".into()
+        })?;
+        for (i, pt) in p.iter().enumerate() {
+            c.positive(&format!("axle.profile_mm[{i}][1]"), pt[1])?;
+            c.require(
+                pt[1] <= h.bore_radius_mm + 1e-9,
+                &format!("axle.profile_mm[{i}][1]"),
+                || {
+                    format!(
+                        "axle radius must not exceed the hub bore radius {} mm, got {}",
+                        h.bore_radius_mm, pt[1]
+                    )
+                },
+            )?;
+            if i > 0 {
                 c.require(
-                    pt[1] <= h.bore_radius_mm + 1e-9,
-                    &format!("axle.profile_mm[{i}][1]"),
+                    pt[0] > p[i - 1][0],
+                    &format!("axle.profile_mm[{i}][0]"),
                     || {
                         format!(
-                            "axle radius must not exceed the hub bore radius {} mm, got {}",
-                            h.bore_radius_mm, pt[1]
+                            "S must increase strictly along the axle, got {} after {}",
+                            pt[0],
+                            p[i - 1][0]
                         )
                     },
                 )?;
-                if i > 0 {
-                    c.require(
-                        pt[0] > p[i - 1][0],
-                        &format!("axle.profile_mm[{i}][0]"),
-                        || {
-                            format!(
-                                "S must increase strictly along the axle, got {} after {}",
-                                pt[0],
-                                p[i - 1][0]
-                            )
-                        },
-                    )?;
-                }
             }
-            c.require(p[0][0] < h.s_min_mm - 10.0 && p[p.len() - 1][0] > h.s_max_mm + 10.0, "axle.profile_mm", || {
-                format!("the axle must extend at least 10 mm beyond the hub on both sides (hub S = [{}, {}] mm)", h.s_min_mm, h.s_max_mm)
-            })?;
-            for s in [h.s_min_mm, h.s_max_mm, 0.5 * (h.s_min_mm + h.s_max_mm)] {
-                let r = axle_radius_mm(p, s);
-                c.require((r - h.bore_radius_mm).abs() < 1e-6, "axle.profile_mm", || {
-                    format!("the axle radius over the hub (S = {s} mm) must equal the hub bore radius {} mm, got {r}", h.bore_radius_mm)
-                })?;
-            }
-            c.within(
-                "axle.bearing_centre_s_mm",
-                axle.bearing_centre_s_mm,
-                h.s_max_mm,
-                p[p.len() - 1][0],
-            )?;
         }
-        check_material(&self.material, &c, "material")?;
+        c.require(p[0][0] < h.s_min_mm - 10.0 && p[p.len() - 1][0] > h.s_max_mm + 10.0, "axle.profile_mm", || {
+            format!("the axle must extend at least 10 mm beyond the hub on both sides (hub S = [{}, {}] mm)", h.s_min_mm, h.s_max_mm)
+        })?;
+        for s in [h.s_min_mm, h.s_max_mm, 0.5 * (h.s_min_mm + h.s_max_mm)] {
+            let r = axle_radius_mm(p, s);
+            c.require((r - h.bore_radius_mm).abs() < 1e-6, "axle.profile_mm", || {
+                format!("the axle radius over the hub (S = {s} mm) must equal the hub bore radius {} mm, got {r}", h.bore_radius_mm)
+            })?;
+        }
+        c.within(
+            "axle.bearing_centre_s_mm",
+            axle.bearing_centre_s_mm,
+            h.s_max_mm,
+            p[p.len() - 1][0],
+        )
+    }
+
+    /// Material constants and mesh settings: the division counts are multiples of 8 because
+    /// the axle core is an O-grid with a quarter of them per side, and the inner zone may not
+    /// be finer than the outer one it is tied to.
+    fn check_material_and_mesh(&self, c: &Checker) -> Result<()> {
+        check_material(&self.material, c, "material")?;
         c.within("mesh.element_size_mm", self.mesh.element_size_mm, 0.5, 60.0)?;
         let n = self.mesh.circumferential_divisions;
         c.require(n >= 8 && n.is_multiple_of(8) && n <= 20000, "mesh.circumferential_divisions", || {

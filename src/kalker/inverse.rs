@@ -38,7 +38,8 @@ pub const SATURATION_TOLERANCE: f64 = 1e-9;
 /// Solves for `(xi, eta)` such that the solver's forces equal `(Fx, Fy)` for spin `phi_per_m`.
 /// `semi_axes_m` (a, b) give the linear-theory starting point.
 ///
-/// Kept in one piece: the Newton iteration on the creepages and its safeguards share the iterate.
+/// The phases: checks of the targets against Coulomb's bound, the linear-theory creepages,
+/// then either the saturated search or Newton's method from the Carter-scaled guess.
 pub fn solve_force_prescribed(
     solver: &RollingSolver,
     semi_axes_m: (f64, f64),
@@ -46,10 +47,69 @@ pub fn solve_force_prescribed(
     force_y_n: f64,
     phi_per_m: f64,
 ) -> Result<ForcePrescribedResult> {
+    let target = Target {
+        force_x_n,
+        force_y_n,
+        phi_per_m,
+    };
+    let (limit_n, tangential_n) = check_target(solver, &target)?;
+    let linear = LinearTheory::new(solver, semi_axes_m, &target)?;
+
+    if tangential_n >= limit_n * (1.0 - SATURATION_TOLERANCE) {
+        return saturated(
+            solver,
+            force_x_n,
+            force_y_n,
+            phi_per_m,
+            linear.xi.hypot(linear.eta),
+            limit_n,
+        );
+    }
+
+    // Carter-law scaling of the linear guess: f = |F|/(mu Fn) = 2k - k^2 with linear f = 2k.
+    let fraction = tangential_n / limit_n;
+    let scale = if fraction > 1e-12 {
+        2.0 * (1.0 - (1.0 - fraction).sqrt()) / fraction
+    } else {
+        1.0
+    };
+    let start = (linear.xi * scale, linear.eta * scale);
+    newton(solver, &target, &linear, start, limit_n)
+}
+
+/// The prescribed forces and spin.
+struct Target {
+    force_x_n: f64,
+    force_y_n: f64,
+    phi_per_m: f64,
+}
+
+impl Target {
+    /// The creepages `(xi, eta)` with the prescribed spin.
+    #[inline]
+    fn creep(&self, xi: f64, eta: f64) -> Creepages {
+        Creepages {
+            xi,
+            eta,
+            phi_per_m: self.phi_per_m,
+        }
+    }
+
+    /// The forces' residual against the targets.
+    #[inline]
+    fn residual(&self, forces: (f64, f64)) -> (f64, f64) {
+        (forces.0 - self.force_x_n, forces.1 - self.force_y_n)
+    }
+}
+
+/// The targets must be finite, and the tangential force within Coulomb's bound `mu Fn` (up to
+/// [`SATURATION_TOLERANCE`]). Returns the bound and the tangential force `|F_t|` (N).
+fn check_target(solver: &RollingSolver, target: &Target) -> Result<(f64, f64)> {
+    let (force_x_n, force_y_n) = (target.force_x_n, target.force_y_n);
     for (value, name) in [
         (force_x_n, "--force-x-n"),
         (force_y_n, "--force-y-n"),
-        (phi_per_m, "--phi-per-m"),
+        (target.phi_per_m, "--phi-per-m"),
     ] {
         if !value.is_finite() {
             return Err(Error::input(
@@ -70,112 +130,166 @@ pub fn solve_force_prescribed(
             ),
         ));
     }
-    let (a, b) = semi_axes_m;
-    let shear_modulus_pa = solver.material().shear_modulus_pa();
-    let ratio = (a / b).clamp(0.2, 5.0);
-    let coefficients = kalker_creep_coefficients(ratio, solver.material().poisson_ratio)?;
-    let c2 = a * b;
-    // Linear-theory creepages for the target forces (spin contribution removed from Fy).
-    let linear_xi = -force_x_n / (shear_modulus_pa * c2 * coefficients.c11);
-    let linear_eta = -(force_y_n
-        + shear_modulus_pa * c2 * c2.sqrt() * coefficients.c23 * phi_per_m)
-        / (shear_modulus_pa * c2 * coefficients.c22);
+    Ok((limit_n, tangential_n))
+}
 
-    if tangential_n >= limit_n * (1.0 - SATURATION_TOLERANCE) {
-        return saturated(
-            solver,
-            force_x_n,
-            force_y_n,
-            phi_per_m,
-            linear_xi.hypot(linear_eta),
-            limit_n,
-        );
+/// Kalker's linear theory for the patch: the creepages that give the target forces, and the
+/// diagonal stiffnesses `G c^2 C11`, `G c^2 C22` (N) that also step a flat Jacobian.
+struct LinearTheory {
+    /// Linear-theory longitudinal creepage.
+    xi: f64,
+    /// Linear-theory lateral creepage (spin contribution removed from Fy).
+    eta: f64,
+    /// `G c^2 C11` (N).
+    stiffness_x_n: f64,
+    /// `G c^2 C22` (N).
+    stiffness_y_n: f64,
+}
+
+impl LinearTheory {
+    /// Kalker's coefficients for the patch's `a/b` (clamped to his table) and the linear
+    /// creepages for the target forces.
+    fn new(solver: &RollingSolver, semi_axes_m: (f64, f64), target: &Target) -> Result<Self> {
+        let (force_x_n, force_y_n, phi_per_m) =
+            (target.force_x_n, target.force_y_n, target.phi_per_m);
+        let (a, b) = semi_axes_m;
+        let shear_modulus_pa = solver.material().shear_modulus_pa();
+        let ratio = (a / b).clamp(0.2, 5.0);
+        let coefficients = kalker_creep_coefficients(ratio, solver.material().poisson_ratio)?;
+        let c2 = a * b;
+        let stiffness_x_n = shear_modulus_pa * c2 * coefficients.c11;
+        let stiffness_y_n = shear_modulus_pa * c2 * coefficients.c22;
+        // Linear-theory creepages for the target forces (spin contribution removed from Fy).
+        let linear_xi = -force_x_n / stiffness_x_n;
+        let linear_eta = -(force_y_n
+            + shear_modulus_pa * c2 * c2.sqrt() * coefficients.c23 * phi_per_m)
+            / stiffness_y_n;
+        Ok(LinearTheory {
+            xi: linear_xi,
+            eta: linear_eta,
+            stiffness_x_n,
+            stiffness_y_n,
+        })
     }
+}
 
-    // Carter-law scaling of the linear guess: f = |F|/(mu Fn) = 2k - k^2 with linear f = 2k.
-    let fraction = tangential_n / limit_n;
-    let scale = if fraction > 1e-12 {
-        2.0 * (1.0 - (1.0 - fraction).sqrt()) / fraction
-    } else {
-        1.0
-    };
-    let mut xi = linear_xi * scale;
-    let mut eta = linear_eta * scale;
-    let creep_of = |xi: f64, eta: f64| Creepages { xi, eta, phi_per_m };
-    let residual_of = |forces: (f64, f64)| (forces.0 - force_x_n, forces.1 - force_y_n);
-    let mut residual = residual_of(solver.forces(&creep_of(xi, eta))?);
+/// Newton's method on `F(xi, eta) - F_target = 0` from `start`: converged when the residual is
+/// below `1e-10 mu Fn`, or (after 100 iterations or a step that no halving improves) below
+/// `1e-7 mu Fn`; otherwise a numerical error.
+fn newton(
+    solver: &RollingSolver,
+    target: &Target,
+    linear: &LinearTheory,
+    start: (f64, f64),
+    limit_n: f64,
+) -> Result<ForcePrescribedResult> {
+    let (mut xi, mut eta) = start;
+    let mut residual = target.residual(solver.forces(&target.creep(xi, eta))?);
     let tolerance_n = 1e-10 * limit_n;
-    let creepage_scale = linear_xi.hypot(linear_eta).max(1e-9);
+    let creepage_scale = linear.xi.hypot(linear.eta).max(1e-9);
     for iteration in 1..=100 {
         if residual.0.hypot(residual.1) <= tolerance_n {
-            let solution = solver.solve(&creep_of(xi, eta))?;
-            return Ok(ForcePrescribedResult {
-                creepages: creep_of(xi, eta),
-                unique: true,
-                note: "unique".into(),
-                iterations: iteration - 1,
-                solution,
-            });
+            return unique(solver, target, (xi, eta), iteration - 1);
         }
         // Central differences, step small against the creepage scale.
         let step = 1e-5 * creepage_scale.max(xi.hypot(eta));
         // Perturbed solutions start from the base solution (cheap for the exact solver).
-        let base = solver.solve(&creep_of(xi, eta))?;
-        let fx_plus = solver.forces_warm(&creep_of(xi + step, eta), Some(&base))?;
-        let fx_minus = solver.forces_warm(&creep_of(xi - step, eta), Some(&base))?;
-        let fe_plus = solver.forces_warm(&creep_of(xi, eta + step), Some(&base))?;
-        let fe_minus = solver.forces_warm(&creep_of(xi, eta - step), Some(&base))?;
-        let j11 = (fx_plus.0 - fx_minus.0) / (2.0 * step);
-        let j21 = (fx_plus.1 - fx_minus.1) / (2.0 * step);
-        let j12 = (fe_plus.0 - fe_minus.0) / (2.0 * step);
-        let j22 = (fe_plus.1 - fe_minus.1) / (2.0 * step);
-        let determinant = j11 * j22 - j12 * j21;
-        let (mut delta_xi, mut delta_eta) = if determinant.abs() > f64::MIN_POSITIVE {
-            (
-                (-residual.0 * j22 + residual.1 * j12) / determinant,
-                (-residual.1 * j11 + residual.0 * j21) / determinant,
-            )
-        } else {
-            // Flat Jacobian: fall back to a diagonal linear-theory step.
-            (
-                residual.0 / (shear_modulus_pa * c2 * coefficients.c11),
-                residual.1 / (shear_modulus_pa * c2 * coefficients.c22),
-            )
-        };
-        let old_norm = residual.0.hypot(residual.1);
-        let mut accepted = false;
-        for _ in 0..40 {
-            let trial = residual_of(
-                solver.forces_warm(&creep_of(xi + delta_xi, eta + delta_eta), Some(&base))?,
-            );
-            if trial.0.hypot(trial.1) < old_norm {
-                xi += delta_xi;
-                eta += delta_eta;
+        let base = solver.solve(&target.creep(xi, eta))?;
+        let delta = newton_direction(solver, target, linear, &base, (xi, eta), step, residual)?;
+        match damped_step(solver, target, &base, (xi, eta), delta, residual)? {
+            Some(((new_xi, new_eta), trial)) => {
+                xi = new_xi;
+                eta = new_eta;
                 residual = trial;
-                accepted = true;
-                break;
             }
-            delta_xi *= 0.5;
-            delta_eta *= 0.5;
-        }
-        if !accepted {
-            break;
+            None => break,
         }
     }
     if residual.0.hypot(residual.1) <= 1e-7 * limit_n {
-        let solution = solver.solve(&creep_of(xi, eta))?;
-        return Ok(ForcePrescribedResult {
-            creepages: creep_of(xi, eta),
-            unique: true,
-            note: "unique".into(),
-            iterations: 100,
-            solution,
-        });
+        return unique(solver, target, (xi, eta), 100);
     }
     Err(Error::Numerical(format!(
         "force-prescribed mode did not converge: residual ({:.3e}, {:.3e}) N",
         residual.0, residual.1
     )))
+}
+
+/// The result at converged creepages `(xi, eta)`, with the forward solution there.
+fn unique(
+    solver: &RollingSolver,
+    target: &Target,
+    (xi, eta): (f64, f64),
+    iterations: usize,
+) -> Result<ForcePrescribedResult> {
+    let solution = solver.solve(&target.creep(xi, eta))?;
+    Ok(ForcePrescribedResult {
+        creepages: target.creep(xi, eta),
+        unique: true,
+        note: "unique".into(),
+        iterations,
+        solution,
+    })
+}
+
+/// The Newton step at `(xi, eta)`: the Jacobian by central differences of half-width `step`
+/// (warm-started from `base`), solved against the residual; a flat Jacobian falls back to the
+/// diagonal linear-theory step.
+fn newton_direction(
+    solver: &RollingSolver,
+    target: &Target,
+    linear: &LinearTheory,
+    base: &RollingContactSolution,
+    (xi, eta): (f64, f64),
+    step: f64,
+    residual: (f64, f64),
+) -> Result<(f64, f64)> {
+    let fx_plus = solver.forces_warm(&target.creep(xi + step, eta), Some(base))?;
+    let fx_minus = solver.forces_warm(&target.creep(xi - step, eta), Some(base))?;
+    let fe_plus = solver.forces_warm(&target.creep(xi, eta + step), Some(base))?;
+    let fe_minus = solver.forces_warm(&target.creep(xi, eta - step), Some(base))?;
+    let j11 = (fx_plus.0 - fx_minus.0) / (2.0 * step);
+    let j21 = (fx_plus.1 - fx_minus.1) / (2.0 * step);
+    let j12 = (fe_plus.0 - fe_minus.0) / (2.0 * step);
+    let j22 = (fe_plus.1 - fe_minus.1) / (2.0 * step);
+    let determinant = j11 * j22 - j12 * j21;
+    Ok(if determinant.abs() > f64::MIN_POSITIVE {
+        (
+            (-residual.0 * j22 + residual.1 * j12) / determinant,
+            (-residual.1 * j11 + residual.0 * j21) / determinant,
+        )
+    } else {
+        // Flat Jacobian: fall back to a diagonal linear-theory step.
+        (
+            residual.0 / linear.stiffness_x_n,
+            residual.1 / linear.stiffness_y_n,
+        )
+    })
+}
+
+/// Takes the step `delta` from `(xi, eta)`, halved (up to 40 times) until the residual
+/// decreases: the force is monotone but flattens towards saturation, where full Newton steps
+/// overshoot. Returns the new creepages and residual, or `None` when no halving helps.
+#[allow(clippy::type_complexity)] // a pair of pairs: the creepages and their residual
+fn damped_step(
+    solver: &RollingSolver,
+    target: &Target,
+    base: &RollingContactSolution,
+    (xi, eta): (f64, f64),
+    (mut delta_xi, mut delta_eta): (f64, f64),
+    residual: (f64, f64),
+) -> Result<Option<((f64, f64), (f64, f64))>> {
+    let old_norm = residual.0.hypot(residual.1);
+    for _ in 0..40 {
+        let trial = target.residual(
+            solver.forces_warm(&target.creep(xi + delta_xi, eta + delta_eta), Some(base))?,
+        );
+        if trial.0.hypot(trial.1) < old_norm {
+            return Ok(Some(((xi + delta_xi, eta + delta_eta), trial)));
+        }
+        delta_xi *= 0.5;
+        delta_eta *= 0.5;
+    }
+    Ok(None)
 }
 
 /// Saturated forces: the smallest creepage magnitude at which `|F| >= mu Fn (1 - 1e-6)`, with the

@@ -20,6 +20,7 @@ pub mod vtk_cells;
 pub mod vtk_legacy;
 pub mod vtu;
 pub mod wheel;
+mod wheel_zones;
 
 use std::collections::{BTreeMap, HashMap};
 

@@ -8,7 +8,7 @@
 //! angles.
 
 use super::distribute;
-use super::section::{coons_patch, geometric_fractions, OGrid, Polyline, SectionMesh};
+use super::section::{coons_patch, geometric_fractions, OGrid, OGridNodes, Polyline, SectionMesh};
 use crate::geometry::curve2d::{sample_chain, Segment, P2};
 use crate::geometry::rail54e1;
 
@@ -108,69 +108,205 @@ impl RailBandMap {
 /// size and halve the explicit time step. As for the wheel tread, the fine crown layer is meshed
 /// on its own and tied; the head keeps the body size.
 ///
-/// Kept in one piece: the head, web and foot blocks are meshed along one outline, each reusing its
-/// neighbour's edge nodes.
+/// The head, web and foot blocks are meshed along one outline (`RailOutline`), each reusing
+/// its neighbour's edge nodes: the head O-grid first (its underside's junction nodes are the
+/// web's top), the crown band, the foot (its junction nodes are the web's bottom), then the web
+/// between them.
 pub fn rail_section(sizes: RailSectionSizes) -> RailSection {
-    let segs = rail54e1::left_half_segments();
-    let h_fine = sizes.running_surface_mm;
-    let h_body = sizes.body_mm.max(h_fine);
-    // A band pays off once the body is clearly coarser than the running surface.
-    let banded = h_body >= 1.5 * h_fine;
-    let crown_half = if banded {
-        BANDED_CROWN_HALF_WIDTH_MM
-    } else {
-        CROWN_BAND_HALF_WIDTH_MM
-    };
-    let chain = Polyline::new(sample_chain(&segs, 0.01));
-    let arc_mid = |seg: &Segment| seg.point_at(0.5);
-    // Key points on the left half (indices follow rail54e1::left_half_segments).
-    // O-grid anchors at y = -/+ CROWN_BAND_HALF_WIDTH_MM on the crown: side 2 (the fine side)
-    // is only the crown band where wheel contact happens; the gauge corners and side faces
-    // belong to sides 1 and 3, which are coarser. This keeps the core cells (whose count is tied
-    // to the fine side's) at least one running-surface element wide.
-    let p_side_top = [
-        -crown_half,
-        rail54e1::top_surface_z_mm(-crown_half).unwrap_or(0.0),
-    ];
-    let p_head_corner = arc_mid(&segs[4]);
-    let head_junction = {
-        if let Segment::Arc { centre, radius, .. } = segs[7] {
-            let dz = HEAD_JUNCTION_Z_MM - centre[1];
-            [
-                centre[0] + (radius * radius - dz * dz).sqrt(),
-                HEAD_JUNCTION_Z_MM,
-            ]
-        } else {
-            unreachable!("segment 7 is the R22 arc")
-        }
-    };
-    let foot_junction = {
-        if let Segment::Arc { centre, radius, .. } = segs[9] {
-            let a = -FOOT_JUNCTION_ANGLE_DEG.to_radians();
-            [centre[0] + radius * a.cos(), centre[1] + radius * a.sin()]
-        } else {
-            unreachable!("segment 9 is the R16 arc")
-        }
-    };
-    let s_side_top = chain.length_at_nearest(p_side_top);
-    let s_head_corner = chain.length_at_nearest(p_head_corner);
-    let s_head_junction = chain.length_at_nearest(head_junction);
-    let s_foot_junction = chain.length_at_nearest(foot_junction);
-    let s_edge_top = chain.length_at_nearest(segs[14].start());
-    let s_edge_bottom = chain.length_at_nearest(segs[14].end());
-
-    let h_rs = if banded { h_body } else { h_fine };
+    let sizing = RailSizing::new(&sizes);
+    let outline = RailOutline::new(sizing.crown_half);
     let mut mesh = SectionMesh::new(1e-7);
+    let head = head_grid(&outline, &sizing);
+    let og = mesh_head(&mut mesh, &head.grid, sizing.banded);
+    let mut band_map = None;
+    let band = sizing.banded.then(|| {
+        let (band, map) = mesh_crown_band(&mut mesh, &head.grid, &og, &sizes);
+        band_map = Some(map);
+        band
+    });
+    let junction_nodes: Vec<P2> = (0..=head.n_junction)
+        .map(|i| og.ring[og.side_start[0] + head.n_under + i][0])
+        .map(|id| mesh.nodes[id])
+        .collect();
+    let foot_junction_nodes = mesh_foot(&mut mesh, &outline, sizing.h_body, head.n_junction);
+    mesh_web(
+        &mut mesh,
+        &outline,
+        sizing.h_body,
+        &foot_junction_nodes,
+        &junction_nodes,
+    );
+    mesh.remove_unused_nodes();
+    // Smooth the body; nodes on the band interface stay put (they are boundary nodes of the
+    // body once the band's cells are left out).
+    mesh.smooth(20);
+    let head = head.grid;
+    let band_map = band_map.map(
+        |(columns, rows, ring_fraction, depth_mm, width_mm)| RailBandMap {
+            head,
+            columns,
+            rows,
+            ring_fraction,
+            depth_mm,
+            width_mm,
+        },
+    );
+    RailSection {
+        body: mesh,
+        band,
+        band_map,
+    }
+}
+
+/// The element sizes of a section and whether it gets a running band.
+struct RailSizing {
+    /// Element size on the running surface (mm).
+    h_fine: f64,
+    /// Element size of the body (mm), at least the running surface's.
+    h_body: f64,
+    /// Whether the crown is a separately meshed, tied band.
+    banded: bool,
+    /// Half-width of the crown band, the head O-grid's side 2 (mm).
+    crown_half: f64,
+}
+
+impl RailSizing {
+    /// The body size (never finer than the running surface) and the band decision.
+    fn new(sizes: &RailSectionSizes) -> Self {
+        let h_fine = sizes.running_surface_mm;
+        let h_body = sizes.body_mm.max(h_fine);
+        // A band pays off once the body is clearly coarser than the running surface.
+        let banded = h_body >= 1.5 * h_fine;
+        let crown_half = if banded {
+            BANDED_CROWN_HALF_WIDTH_MM
+        } else {
+            CROWN_BAND_HALF_WIDTH_MM
+        };
+        RailSizing {
+            h_fine,
+            h_body,
+            banded,
+            crown_half,
+        }
+    }
+}
+
+/// The left half of the 54E1 outline as one polyline and the key points along it where the
+/// blocks meet (arc lengths from the crown centre, mm).
+struct RailOutline {
+    /// The sampled left half, from the crown centre round to the foot's centre.
+    chain: Polyline,
+    /// The straight head-web junction's left end.
+    head_junction: P2,
+    /// The web-foot junction point on the R16 fillet.
+    foot_junction: P2,
+    /// End of the crown band.
+    s_side_top: f64,
+    /// Middle of the gauge corner arc.
+    s_head_corner: f64,
+    /// The head-web junction.
+    s_head_junction: f64,
+    /// The web-foot junction.
+    s_foot_junction: f64,
+    /// Top of the foot's edge.
+    s_edge_top: f64,
+    /// Bottom of the foot's edge.
+    s_edge_bottom: f64,
+}
+
+impl RailOutline {
+    /// Samples the outline and locates the key points, the crown band ending at
+    /// `y = -crown_half`.
+    fn new(crown_half: f64) -> Self {
+        let segs = rail54e1::left_half_segments();
+        let chain = Polyline::new(sample_chain(&segs, 0.01));
+        let arc_mid = |seg: &Segment| seg.point_at(0.5);
+        // Key points on the left half (indices follow rail54e1::left_half_segments).
+        // O-grid anchors at y = -/+ CROWN_BAND_HALF_WIDTH_MM on the crown: side 2 (the fine side)
+        // is only the crown band where wheel contact happens; the gauge corners and side faces
+        // belong to sides 1 and 3, which are coarser. This keeps the core cells (whose count is
+        // tied to the fine side's) at least one running-surface element wide.
+        let p_side_top = [
+            -crown_half,
+            rail54e1::top_surface_z_mm(-crown_half).unwrap_or(0.0),
+        ];
+        let p_head_corner = arc_mid(&segs[4]);
+        let head_junction = {
+            if let Segment::Arc { centre, radius, .. } = segs[7] {
+                let dz = HEAD_JUNCTION_Z_MM - centre[1];
+                [
+                    centre[0] + (radius * radius - dz * dz).sqrt(),
+                    HEAD_JUNCTION_Z_MM,
+                ]
+            } else {
+                unreachable!("segment 7 is the R22 arc")
+            }
+        };
+        let foot_junction = {
+            if let Segment::Arc { centre, radius, .. } = segs[9] {
+                let a = -FOOT_JUNCTION_ANGLE_DEG.to_radians();
+                [centre[0] + radius * a.cos(), centre[1] + radius * a.sin()]
+            } else {
+                unreachable!("segment 9 is the R16 arc")
+            }
+        };
+        let s_side_top = chain.length_at_nearest(p_side_top);
+        let s_head_corner = chain.length_at_nearest(p_head_corner);
+        let s_head_junction = chain.length_at_nearest(head_junction);
+        let s_foot_junction = chain.length_at_nearest(foot_junction);
+        let s_edge_top = chain.length_at_nearest(segs[14].start());
+        let s_edge_bottom = chain.length_at_nearest(segs[14].end());
+        RailOutline {
+            chain,
+            head_junction,
+            foot_junction,
+            s_side_top,
+            s_head_corner,
+            s_head_junction,
+            s_foot_junction,
+            s_edge_top,
+            s_edge_bottom,
+        }
+    }
+}
+
+/// The head O-grid and the node counts of its underside, which the web reuses.
+struct HeadGrid {
+    /// The O-grid (sides, core, fractions).
+    grid: OGrid,
+    /// Intervals of each fillet half of the underside (side 0).
+    n_under: usize,
+    /// Intervals of the straight head-web junction, the web's width in cells.
+    n_junction: usize,
+}
+
+/// The head O-grid: its four sides cut from the outline (underside, gauge corner, crown band,
+/// side face), their node counts, and the ring rows graded under the running surface.
+fn head_grid(outline: &RailOutline, sizing: &RailSizing) -> HeadGrid {
+    let chain = &outline.chain;
+    let (s_side_top, s_head_corner, s_head_junction) = (
+        outline.s_side_top,
+        outline.s_head_corner,
+        outline.s_head_junction,
+    );
+    let head_junction = outline.head_junction;
+    let (h_fine, h_body, banded, crown_half) = (
+        sizing.h_fine,
+        sizing.h_body,
+        sizing.banded,
+        sizing.crown_half,
+    );
+    let h_rs = if banded { h_body } else { h_fine };
 
     // ---- Head O-grid.
     let crown_left = chain.slice(0.0, s_side_top);
-    let side2 = Polyline::join(&[reversed(&chain, 0.0, s_side_top, true), crown_left]);
+    let side2 = Polyline::join(&[reversed(chain, 0.0, s_side_top, true), crown_left]);
     let side3 = chain.slice(s_side_top, s_head_corner);
     let left_under = chain.slice(s_head_corner, s_head_junction);
     let junction = Polyline::segment(head_junction, mirror(head_junction));
-    let right_under = reversed(&chain, s_head_corner, s_head_junction, true);
+    let right_under = reversed(chain, s_head_corner, s_head_junction, true);
     let side0 = Polyline::join(&[left_under.clone(), junction.clone(), right_under]);
-    let side1 = reversed(&chain, s_side_top, s_head_corner, true);
+    let side1 = reversed(chain, s_side_top, s_head_corner, true);
     // Side 0 (underside, fillets, junction) needs enough nodes for its chords to follow the
     // concave R8/R22 fillets (at least 3 per half); side 2 (crown band) gets the same count,
     // at least the running-surface resolution.
@@ -210,7 +346,7 @@ pub fn rail_section(sizes: RailSectionSizes) -> RailSection {
     for i in 1..=n_under {
         f0.push(b1 + (1.0 - b1) * i as f64 / n_under as f64);
     }
-    let head = OGrid {
+    let grid = OGrid {
         sides: [side0, side1, side2, side3],
         core: [
             [-HEAD_CORE_HALF_WIDTH_MM, HEAD_CORE_BOTTOM_Z_MM],
@@ -239,7 +375,17 @@ pub fn rail_section(sizes: RailSectionSizes) -> RailSection {
             distribute::uniform(0.0, 1.0, rows),
         ],
     };
-    let og = head.mesh(&mut mesh, RAIL_PART, |side, _, row| {
+    HeadGrid {
+        grid,
+        n_under,
+        n_junction,
+    }
+}
+
+/// Meshes the head O-grid into `mesh` (with a band, the crown's outer ring row is left to the
+/// band) and tags the body's running surface.
+fn mesh_head(mesh: &mut SectionMesh, head: &OGrid, banded: bool) -> OGridNodes {
+    let og = head.mesh(mesh, RAIL_PART, |side, _, row| {
         banded && side == 2 && row == 0
     });
     let a2 = og.side_start[2];
@@ -252,43 +398,64 @@ pub fn rail_section(sizes: RailSectionSizes) -> RailSection {
         .map(|i| og.ring[i][0])
         .collect();
     mesh.tag("running_surface", body_running);
-    let mut band_map = None;
-    let band = banded.then(|| {
-        let mut iface: Vec<usize> = (a2..=a3).map(|i| og.ring[i][1]).collect();
-        iface.extend([og.ring[a2][0], og.ring[a3][0]]);
-        mesh.tag("band_interface_body", iface);
-        let s_band = head.ring_fractions[2][1];
-        let n_t = distribute::count_at_least(head.sides[2].length(), h_fine).max(2);
-        let (o, c) = head.outline_and_core(2, 0.5);
-        let depth = s_band * (o[0] - c[0]).hypot(o[1] - c[1]);
-        let n_rows = distribute::count_at_least(depth, h_fine).max(sizes.band_rows_at_least);
-        band_map = Some((n_t, n_rows, s_band, depth, head.sides[2].length()));
-        let grid: Vec<Vec<P2>> = (0..=n_t)
-            .map(|i| {
-                (0..=n_rows)
-                    .map(|k| {
-                        head.point(2, i as f64 / n_t as f64, s_band * k as f64 / n_rows as f64)
-                    })
-                    .collect()
-            })
-            .collect();
-        let mut band = SectionMesh::new(1e-7);
-        let ids = band.add_grid(&grid, RAIL_BAND_PART);
-        band.tag("running_surface", ids.iter().map(|col| col[0]));
-        let mut iface: Vec<usize> = ids.iter().map(|col| col[n_rows]).collect();
-        iface.extend(ids[0].iter().copied());
-        iface.extend(ids[n_t].iter().copied());
-        band.tag("band_interface", iface);
-        band
-    });
-    let junction_nodes: Vec<P2> = (0..=n_junction)
-        .map(|i| og.ring[og.side_start[0] + n_under + i][0])
-        .map(|id| mesh.nodes[id])
-        .collect();
+    og
+}
 
+/// The crown band: tags the body's interface under it, and meshes the band itself on the head
+/// O-grid's map over the left-out ring row (running-surface size along the crown and through
+/// its depth). Returns the band and its map's data (columns, rows, ring fraction, depth and
+/// width in mm).
+fn mesh_crown_band(
+    mesh: &mut SectionMesh,
+    head: &OGrid,
+    og: &OGridNodes,
+    sizes: &RailSectionSizes,
+) -> (SectionMesh, (usize, usize, f64, f64, f64)) {
+    let h_fine = sizes.running_surface_mm;
+    let a2 = og.side_start[2];
+    let a3 = og.side_start[3];
+    let mut iface: Vec<usize> = (a2..=a3).map(|i| og.ring[i][1]).collect();
+    iface.extend([og.ring[a2][0], og.ring[a3][0]]);
+    mesh.tag("band_interface_body", iface);
+    let s_band = head.ring_fractions[2][1];
+    let n_t = distribute::count_at_least(head.sides[2].length(), h_fine).max(2);
+    let (o, c) = head.outline_and_core(2, 0.5);
+    let depth = s_band * (o[0] - c[0]).hypot(o[1] - c[1]);
+    let n_rows = distribute::count_at_least(depth, h_fine).max(sizes.band_rows_at_least);
+    let map = (n_t, n_rows, s_band, depth, head.sides[2].length());
+    let grid: Vec<Vec<P2>> = (0..=n_t)
+        .map(|i| {
+            (0..=n_rows)
+                .map(|k| head.point(2, i as f64 / n_t as f64, s_band * k as f64 / n_rows as f64))
+                .collect()
+        })
+        .collect();
+    let mut band = SectionMesh::new(1e-7);
+    let ids = band.add_grid(&grid, RAIL_BAND_PART);
+    band.tag("running_surface", ids.iter().map(|col| col[0]));
+    let mut iface: Vec<usize> = ids.iter().map(|col| col[n_rows]).collect();
+    iface.extend(ids[0].iter().copied());
+    iface.extend(ids[n_t].iter().copied());
+    band.tag("band_interface", iface);
+    (band, map)
+}
+
+/// The foot: column-mapped between its bottom and top outlines (graphs of y), with a parabolic
+/// web-foot junction of `n_junction` cells (the web's width) between the wings. Returns the
+/// junction's top nodes, the web's bottom edge.
+fn mesh_foot(
+    mesh: &mut SectionMesh,
+    outline: &RailOutline,
+    h_body: f64,
+    n_junction: usize,
+) -> Vec<P2> {
+    let chain = &outline.chain;
+    let foot_junction = outline.foot_junction;
     // ---- Foot: column-mapped between bottom and top graphs.
-    let foot_top_left = chain.slice(s_foot_junction, s_edge_top); // junction -> edge top, y decreasing
-    let foot_bottom_left = chain.slice(s_edge_bottom, chain.length()); // edge bottom -> centre, y increasing
+    // junction -> edge top, y decreasing
+    let foot_top_left = chain.slice(outline.s_foot_junction, outline.s_edge_top);
+    // edge bottom -> centre, y increasing
+    let foot_bottom_left = chain.slice(outline.s_edge_bottom, chain.length());
     let graph = |poly: &Polyline, y: f64| -> f64 {
         // Interpolate z(y) on a polyline monotonic in y.
         let n = 4000;
@@ -348,39 +515,37 @@ pub fn rail_section(sizes: RailSectionSizes) -> RailSection {
         .collect();
     let foot_ids = mesh.add_grid(&foot_grid, RAIL_PART);
     mesh.tag("foot_bottom", foot_ids.iter().map(|col| col[0]));
-    let foot_junction_nodes: Vec<P2> = foot_ids[n_wing..=n_wing + n_junction]
+    foot_ids[n_wing..=n_wing + n_junction]
         .iter()
         .map(|col| mesh.nodes[col[n_foot_rows]])
-        .collect();
+        .collect()
+}
 
+/// The web: a Coons patch between the foot's junction nodes (bottom) and the head's junction
+/// nodes (top), its sides following the outline's web faces.
+fn mesh_web(
+    mesh: &mut SectionMesh,
+    outline: &RailOutline,
+    h_body: f64,
+    foot_junction_nodes: &[P2],
+    junction_nodes: &[P2],
+) {
+    let chain = &outline.chain;
     // ---- Web: Coons patch between the two junctions.
-    let web_left_poly = reversed(&chain, s_head_junction, s_foot_junction, false); // foot -> head
+    // foot -> head
+    let web_left_poly = reversed(
+        chain,
+        outline.s_head_junction,
+        outline.s_foot_junction,
+        false,
+    );
     let web_right_poly = mirrored(&web_left_poly);
     let n_web_rows =
-        (((HEAD_JUNCTION_Z_MM - foot_junction[1]).abs() / h_body).round() as usize).max(2);
+        (((HEAD_JUNCTION_Z_MM - outline.foot_junction[1]).abs() / h_body).round() as usize).max(2);
     let web_left = web_left_poly.sample(&distribute::uniform(0.0, 1.0, n_web_rows));
     let web_right = web_right_poly.sample(&distribute::uniform(0.0, 1.0, n_web_rows));
-    let web_grid = coons_patch(&foot_junction_nodes, &junction_nodes, &web_left, &web_right);
+    let web_grid = coons_patch(foot_junction_nodes, junction_nodes, &web_left, &web_right);
     mesh.add_grid(&web_grid, RAIL_PART);
-    mesh.remove_unused_nodes();
-    // Smooth the body; nodes on the band interface stay put (they are boundary nodes of the
-    // body once the band's cells are left out).
-    mesh.smooth(20);
-    let band_map = band_map.map(
-        |(columns, rows, ring_fraction, depth_mm, width_mm)| RailBandMap {
-            head,
-            columns,
-            rows,
-            ring_fraction,
-            depth_mm,
-            width_mm,
-        },
-    );
-    RailSection {
-        body: mesh,
-        band,
-        band_map,
-    }
 }
 
 /// Part id used in rail sections.

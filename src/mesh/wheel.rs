@@ -17,9 +17,13 @@ use std::f64::consts::{PI, TAU};
 use serde::{Deserialize, Serialize};
 
 use super::distribute;
-use super::section::{OGrid, Polyline, SectionMesh};
+use super::section::SectionMesh;
 pub use super::tread_insert::TreadInsertSpec;
 use super::tread_insert::{arc_within, wrap_deg, BandArc};
+use super::wheel_zones::{
+    column_point, mesh_axle_ring, mesh_flange, mesh_hub, mesh_tread_block, mesh_web, rim_outline,
+    RimOutline, RimRows, BAND_ROWS_IN_BODY,
+};
 use super::{material, tie, tread_insert, Mesh, P3};
 use crate::geometry::s1002;
 use crate::input::wheel::{axle_radius_mm, WheelSpec};
@@ -249,41 +253,18 @@ const AXLE_CORE_ETA: f64 = 0.5;
 
 /// Mesh the cross-section.
 ///
-/// Kept in one piece: the zones are meshed along one outline (tread band, rim, web, hub, axle
-/// core), each reusing its neighbour's edge nodes; split, those shared edges would travel through
-/// long argument lists.
+/// The zones are meshed along one outline, each reusing its neighbour's edge nodes, in the
+/// order that numbers their quads: flange and tread block (the rim), hub, web, axle ring
+/// (`wheel_zones.rs`); then the tread band's own section and the zones' labels.
 pub fn mesh_section(spec: &WheelSpec, band: Option<&TreadBandSpec>) -> WheelSection {
     let h = spec.mesh.element_size_mm;
     let tol = 1e-7;
     let mut body = SectionMesh::new(tol);
-    let r_nom = spec.nominal_radius_mm;
-    let r_in = spec.rim_inner_radius_mm;
-    let (s_fb, s_ff) = (s1002::S_FLANGE_BACK_MM, s1002::S_FIELD_FACE_MM);
-    let (web_rim_centre, web_rim_thickness) = spec.web_at(1.0);
-    let (web_hub_centre, web_hub_thickness) = spec.web_at(0.0);
+    let s_ff = s1002::S_FIELD_FACE_MM;
 
     // ---- Rim: a column-mapped tread block (S from the flange root to the field face, rows
     // from the rim bottom to the S1002 profile) and an O-grid for the flange (root to back face),
     // joined along the vertical line S = FLANGE_ROOT_S_MM.
-    let depth = r_nom - r_in;
-    let root = FLANGE_ROOT_S_MM;
-    let r_top = |s: f64| spec.tread_radius_mm(s);
-    let web_left = web_rim_centre - 0.5 * web_rim_thickness;
-    let web_right = web_rim_centre + 0.5 * web_rim_thickness;
-    // Flange profile (O-grid side 2): from the root over the flange face, tip and back arc to
-    // the top of the back face.
-    let dense = 0.02;
-    let mut profile_pts = Vec::new();
-    let mut s = root;
-    while s > s_fb {
-        profile_pts.push([s, r_top(s)]);
-        s -= if s < -60.0 { dense * 0.25 } else { dense };
-    }
-    profile_pts.push([s_fb, r_top(s_fb)]);
-    let flange_side2 = Polyline::new(profile_pts);
-    // Bottom stations of the whole rim, with the web junction and the flange root as nodes;
-    // under the flange they are denser so the O-grid's bottom matches its profile side.
-    let h_under_flange = h.min((root - s_fb) / (flange_side2.length() / h).ceil());
     // The band stops short of the field-side chamfer; the last body column, under the chamfer,
     // is at least one band element wide so that it does not undercut the band's time step.
     let band_end = match band {
@@ -292,263 +273,30 @@ pub fn mesh_section(spec: &WheelSpec, band: Option<&TreadBandSpec>) -> WheelSect
         }
         None => s_ff,
     };
-    let mut breaks = vec![s_fb, web_left, root, web_right, band_end, s_ff];
-    breaks.sort_by(|a, b| a.total_cmp(b));
-    breaks.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
-    let mut bottom_s = vec![s_fb];
-    for w in breaks.windows(2) {
-        let size = if w[1] <= root + 1e-9 {
-            h_under_flange
-        } else {
-            h
-        };
-        let n = (((w[1] - w[0]) / size).round() as usize).max(1);
-        for i in 1..=n {
-            bottom_s.push(w[0] + (w[1] - w[0]) * i as f64 / n as f64);
-        }
-    }
-    let index_of = |s: f64| {
-        bottom_s
-            .iter()
-            .position(|&v| (v - s).abs() < 1e-6)
-            .expect("breakpoint is a station")
-    };
-    let (i_root, i_web_left, i_web_right, i_band_end) = (
-        index_of(root),
-        index_of(web_left),
-        index_of(web_right),
-        index_of(band_end),
-    );
-    let n_web = i_web_right - i_web_left;
-
-    // Flange O-grid sides (counter-clockwise): bottom, root line, profile, back face.
-    let flange_side3 = Polyline::segment([s_fb, r_top(s_fb)], [s_fb, r_in]);
-    let flange_side1 = Polyline::segment([root, r_in], [root, r_top(root)]);
-    let n_rows = ((flange_side1.length().max(flange_side3.length()) / h).ceil() as usize).max(2);
-    let row_v = distribute::uniform(0.0, 1.0, n_rows);
-    let flange_bottom: Vec<f64> = bottom_s[..=i_root]
-        .iter()
-        .map(|&s| (s - s_fb) / (root - s_fb))
-        .collect();
-    let n_flange_bottom = flange_bottom.len() - 1;
-    let flange = OGrid {
-        sides: [
-            Polyline::segment([s_fb, r_in], [root, r_in]),
-            flange_side1,
-            flange_side2,
-            flange_side3,
-        ],
-        core: [
-            [s_fb + 8.0, r_in + 0.2 * depth],
-            [root - 8.0, r_in + 0.2 * depth],
-            [root - 8.0, r_nom - 0.12 * depth],
-            [s_fb + 8.0, r_nom - 0.03 * depth],
-        ],
-        side_fractions: [
-            flange_bottom,
-            row_v.clone(),
-            distribute::uniform(0.0, 1.0, n_flange_bottom),
-            distribute::uniform(0.0, 1.0, n_rows),
-        ],
-        ring_fractions: std::array::from_fn(|_| {
-            distribute::uniform(0.0, 1.0, ((10.0 / h).round() as usize).max(1))
-        }),
-    };
-    let og = flange.mesh(&mut body, material::WHEEL, |_, _, _| false);
-    // Contact-capable flange surface: side 2 (face, tip, back arc).
-    let a2 = og.side_start[2];
-    let a3 = og.side_start[3];
-    body.tag("tread", (a2..=a3).map(|i| og.ring[i][0]));
-
-    // Tread block: columns at the bottom stations, rows at fractions of the rim depth.
-    let band_rows_in_body = 1usize;
-    let tread_columns: Vec<f64> = bottom_s[i_root..].to_vec();
-    let column_point = |s: f64, v: f64| [s, r_in + v * (r_top(s) - r_in)];
-    let tread_grid: Vec<Vec<[f64; 2]>> = tread_columns
-        .iter()
-        .map(|&s| row_v.iter().map(|&v| column_point(s, v)).collect())
-        .collect();
-    // With a band, the band replaces the top rows between the flange root and the chamfer;
-    // the chamfer column (45-degree top) stays in the body so that no sheared band element
-    // undercuts the intended contact-zone size.
-    let keep_rows = if band.is_some() {
-        n_rows - band_rows_in_body
-    } else {
-        n_rows
-    };
-    let split = i_band_end - i_root;
-    let body_grid: Vec<Vec<[f64; 2]>> = tread_grid[..=split]
-        .iter()
-        .map(|col| col[..=keep_rows].to_vec())
-        .collect();
-    let tread_ids = body.add_grid(&body_grid, material::WHEEL);
-    let chamfer_ids = body.add_grid(&tread_grid[split..], material::WHEEL);
-    body.tag("tread", chamfer_ids.iter().map(|col| col[n_rows]));
-    if band.is_none() {
-        body.tag("tread", tread_ids.iter().map(|col| col[n_rows]));
-    } else {
-        let mut iface: Vec<usize> = tread_ids.iter().map(|col| col[keep_rows]).collect();
-        // The root line and the chamfer column's side above the interface row.
-        iface.extend((keep_rows..=n_rows).map(|k| body.add_node(column_point(root, row_v[k]))));
-        iface.extend(chamfer_ids[0][keep_rows..].iter().copied());
-        body.tag("band_interface_body", iface);
-    }
-    let rim_bottom: Vec<usize> = bottom_s.iter().map(|&s| body.add_node([s, r_in])).collect();
+    let (outline, flange_side2) = rim_outline(spec, h, FLANGE_ROOT_S_MM, band_end);
+    let rows = mesh_flange(&mut body, spec, h, &outline, flange_side2);
+    let rim_bottom = mesh_tread_block(&mut body, spec, &outline, &rows, band.is_some());
     let rim_quads_end = body.quads.len();
-    let n_left = i_web_left;
 
-    // ---- Hub: structured rectangle with the web footprint on its top edge.
-    let hub = &spec.hub;
-    let hub_left_end = web_hub_centre - 0.5 * web_hub_thickness;
-    let hub_right_start = web_hub_centre + 0.5 * web_hub_thickness;
-    let mut hub_stations = distribute::uniform(
-        hub.s_min_mm,
-        hub_left_end,
-        ((hub_left_end - hub.s_min_mm) / h).round().max(1.0) as usize,
-    );
-    hub_stations.pop();
-    hub_stations.extend(distribute::uniform(hub_left_end, hub_right_start, n_web));
-    hub_stations.pop();
-    hub_stations.extend(distribute::uniform(
-        hub_right_start,
-        hub.s_max_mm,
-        ((hub.s_max_mm - hub_right_start) / h).round().max(1.0) as usize,
-    ));
-    let hub_rows = distribute::uniform(
-        hub.bore_radius_mm,
-        hub.outer_radius_mm,
-        ((hub.outer_radius_mm - hub.bore_radius_mm) / h)
-            .round()
-            .max(1.0) as usize,
-    );
-    let hub_grid: Vec<Vec<[f64; 2]>> = hub_stations
-        .iter()
-        .map(|&s| hub_rows.iter().map(|&r| [s, r]).collect())
-        .collect();
-    let hub_ids = body.add_grid(&hub_grid, material::WHEEL);
-    body.tag("hub_bore", hub_ids.iter().map(|col| col[0]));
+    let hub_top = mesh_hub(&mut body, spec, h, outline.n_web);
     let hub_quads_end = body.quads.len();
 
-    // ---- Web: Coons patch between the hub top and the rim bottom.
-    let n_vertical = (((r_in - hub.outer_radius_mm) / h).round() as usize).max(1);
-    let web_side = |sign: f64| -> Vec<[f64; 2]> {
-        (0..=n_vertical)
-            .map(|j| {
-                let t = j as f64 / n_vertical as f64;
-                let (c, th) = spec.web_at(t);
-                [
-                    c + sign * 0.5 * th,
-                    hub.outer_radius_mm + t * (r_in - hub.outer_radius_mm),
-                ]
-            })
-            .collect()
-    };
-    let web_bottom: Vec<[f64; 2]> = (0..=n_web)
-        .map(|i| {
-            [
-                hub_left_end + (hub_right_start - hub_left_end) * i as f64 / n_web as f64,
-                hub.outer_radius_mm,
-            ]
-        })
-        .collect();
-    let web_top: Vec<[f64; 2]> = rim_bottom[n_left..=n_left + n_web]
-        .iter()
-        .map(|&id| body.nodes[id])
-        .collect();
-    let web_grid =
-        super::section::coons_patch(&web_bottom, &web_top, &web_side(-1.0), &web_side(1.0));
-    // Split the web at the zone boundary (the row nearest to the requested fraction).
-    let split_row = ((spec.mesh.web_split_fraction * n_vertical as f64).round() as usize)
-        .clamp(1, n_vertical.max(2) - 1)
-        .min(n_vertical);
-    let outer_quads_end = body.quads.len();
-    let upper: Vec<Vec<[f64; 2]>> = web_grid
-        .iter()
-        .map(|col| col[split_row..].to_vec())
-        .collect();
-    body.add_grid(&upper, material::WHEEL);
-    let inner_quads_start = body.quads.len();
-    let lower: Vec<Vec<[f64; 2]>> = web_grid
-        .iter()
-        .map(|col| col[..=split_row].to_vec())
-        .collect();
-    let lower_ids = body.add_grid(&lower, material::WHEEL);
-    body.tag("web_split", lower_ids.iter().map(|col| col[split_row]));
+    let (outer_quads_end, inner_quads_start) =
+        mesh_web(&mut body, spec, h, &outline, &rim_bottom, &hub_top);
     // The hub was added before the rim bottom was known to the web; move its quads to the
     // inner zone by recording the ranges: [0, rim_end) rim, [rim_end, hub_end) hub.
 
-    // ---- Axle ring (outside the core square), structured in (S, eta).
-    let mut axle_eta = BTreeMap::new();
-    let mut axle_stations_mm = Vec::new();
-    if let Some(axle) = &spec.axle {
-        let p = &axle.profile_mm;
-        let (s_start, s_end) = (p[0][0], p[p.len() - 1][0]);
-        let mut stations = distribute::uniform(
-            s_start,
-            hub.s_min_mm,
-            ((hub.s_min_mm - s_start) / (1.5 * h)).round().max(1.0) as usize,
-        );
-        stations.pop();
-        stations.extend(hub_stations.iter().copied());
-        stations.pop();
-        stations.extend(distribute::uniform(
-            hub.s_max_mm,
-            s_end,
-            ((s_end - hub.s_max_mm) / h).round().max(1.0) as usize,
-        ));
-        let radial = AXLE_CORE_ETA * hub.bore_radius_mm;
-        let etas = distribute::uniform(AXLE_CORE_ETA, 1.0, ((radial / h).round() as usize).max(1));
-        let mut grid = Vec::new();
-        for &s in &stations {
-            let r_axle = axle_radius_mm(p, s);
-            grid.push(
-                etas.iter()
-                    .map(|&eta| [s, eta * r_axle])
-                    .collect::<Vec<_>>(),
-            );
-        }
-        let ids = body.add_grid(&grid, material::AXLE);
-        for col in &ids {
-            for (k, &id) in col.iter().enumerate() {
-                if k + 1 < etas.len() {
-                    axle_eta.insert(id, etas[k]);
-                }
-            }
-        }
-        axle_stations_mm = stations;
-    }
+    let (axle_eta, axle_stations_mm) =
+        mesh_axle_ring(&mut body, spec, h, &hub_top.stations, AXLE_CORE_ETA);
 
     // ---- Tread band (separate section mesh over side 2, fine).
-    let mut band_grid = None;
-    let band_section = band.map(|b| {
-        let mut m = SectionMesh::new(tol);
-        let v_b = row_v[n_rows - band_rows_in_body];
-        let (columns_s, row_fractions) = band_stations(b, root, band_end, (1.0 - v_b) * depth, h);
-        band_grid = Some((
-            columns_s.clone(),
-            row_fractions
-                .iter()
-                .map(|f| v_b + (1.0 - v_b) * f)
-                .collect(),
-        ));
-        let (n_axial, n_band_rows) = (columns_s.len() - 1, row_fractions.len() - 1);
-        let grid: Vec<Vec<[f64; 2]>> = columns_s
-            .iter()
-            .map(|&s| {
-                row_fractions
-                    .iter()
-                    .map(|&f| column_point(s, v_b + (1.0 - v_b) * f))
-                    .collect()
-            })
-            .collect();
-        let ids = m.add_grid(&grid, material::TREAD_BAND);
-        m.tag("tread", ids.iter().map(|col| col[n_band_rows]));
-        let mut iface: Vec<usize> = ids.iter().map(|col| col[0]).collect();
-        iface.extend(ids[0].iter().copied());
-        iface.extend(ids[n_axial].iter().copied());
-        m.tag("band_interface", iface);
-        m
-    });
+    let (band_section, band_grid) = match band {
+        Some(b) => {
+            let (m, grid) = mesh_band_section(b, spec, &outline, &rows, h, tol);
+            (Some(m), Some(grid))
+        }
+        None => (None, None),
+    };
 
     // Zones, by the order the quads were added: rim [0, rim_end), hub [rim_end, hub_end),
     // upper web [hub_end, inner_start), then lower web and axle. Outer = rim + upper web;
@@ -565,6 +313,47 @@ pub fn mesh_section(spec: &WheelSpec, band: Option<&TreadBandSpec>) -> WheelSect
         axle_stations_mm,
         quad_in_inner_zone,
     }
+}
+
+/// The tread band's own section (fine, over the flange root to the band end, on the rim's top
+/// rows it replaces), with its tread and its interface to the body tagged; and its grid's
+/// columns (S, mm) and rows (fractions of the rim depth from the rim bottom), for an insert.
+fn mesh_band_section(
+    b: &TreadBandSpec,
+    spec: &WheelSpec,
+    outline: &RimOutline,
+    rows: &RimRows,
+    h: f64,
+    tol: f64,
+) -> (SectionMesh, (Vec<f64>, Vec<f64>)) {
+    let (root, band_end, depth) = (outline.root, outline.band_end, outline.depth);
+    let mut m = SectionMesh::new(tol);
+    let v_b = rows.row_v[rows.n_rows - BAND_ROWS_IN_BODY];
+    let (columns_s, row_fractions) = band_stations(b, root, band_end, (1.0 - v_b) * depth, h);
+    let band_grid: (Vec<f64>, Vec<f64>) = (
+        columns_s.clone(),
+        row_fractions
+            .iter()
+            .map(|f| v_b + (1.0 - v_b) * f)
+            .collect(),
+    );
+    let (n_axial, n_band_rows) = (columns_s.len() - 1, row_fractions.len() - 1);
+    let grid: Vec<Vec<[f64; 2]>> = columns_s
+        .iter()
+        .map(|&s| {
+            row_fractions
+                .iter()
+                .map(|&f| column_point(spec, s, v_b + (1.0 - v_b) * f))
+                .collect()
+        })
+        .collect();
+    let ids = m.add_grid(&grid, material::TREAD_BAND);
+    m.tag("tread", ids.iter().map(|col| col[n_band_rows]));
+    let mut iface: Vec<usize> = ids.iter().map(|col| col[0]).collect();
+    iface.extend(ids[0].iter().copied());
+    iface.extend(ids[n_axial].iter().copied());
+    m.tag("band_interface", iface);
+    (m, band_grid)
 }
 
 /// The band section's columns (S from `root` to `band_end`, mm) and rows (fractions of the

@@ -152,8 +152,8 @@ fn sign_changes_above(values: &[f64], threshold: f64) -> u32 {
 /// [`classify_shape`] on bare node coordinates (any mesh kind); `axle` flags the nodes of the
 /// half axle (empty: no axle).
 ///
-/// Kept in one piece: the family, nodal-diameter and nodal-circle tests read the same shape samples
-/// in one pass.
+/// The family, nodal-diameter and nodal-circle tests read the same shape samples (cylindrical
+/// components, radii and angles of the nodes), computed once.
 pub fn classify_shape_points(
     nodes: &[[f64; 3]],
     weights: &[f64],
@@ -161,115 +161,257 @@ pub fn classify_shape_points(
     centre: [f64; 3],
     u: &[[f64; 3]],
 ) -> ShapeClass {
-    let is_axle = |i: usize| axle.get(i).copied().unwrap_or(false);
-    let n_nodes = nodes.len();
-    let mut cyl = vec![[0.0; 3]; n_nodes]; // axial, radial, circumferential
-    let mut radius = vec![0.0; n_nodes];
-    let mut angle = vec![0.0; n_nodes];
-    let mut energy = [0.0; 3];
-    for i in 0..n_nodes {
-        let dx = nodes[i][0] - centre[0];
-        let dz = nodes[i][2] - centre[2];
-        radius[i] = dx.hypot(dz);
-        angle[i] = dz.atan2(dx);
+    let (samples, energy) = ShapeSamples::new(nodes, weights, axle, centre, u);
+    let family = samples.family(energy);
+    let rim: Vec<usize> = (0..nodes.len())
+        .filter(|&i| samples.radius[i] > 0.9 * samples.r_max)
+        .collect();
+    let nodal_diameters = samples.nodal_diameters(&rim);
+    let nodal_circles = samples.nodal_circles(&rim, family.component, family.axle_mode);
+    ShapeClass {
+        family: family.family,
+        nodal_diameters,
+        nodal_circles,
+        energy_share: family.share,
     }
-    let r_max = radius.iter().cloned().fold(0.0, f64::max);
-    // A node on the axis (a revolved section's solid core) has no radial direction: its
-    // in-plane motion is radial along one meridian and circumferential along the one at 90
-    // degrees, so it counts half to each (the average over the circle of a translation's
-    // u_r² and u_t²); in the nodal-circle walk it is projected on the walked meridian.
-    let on_axis = |i: usize| radius[i] <= 1e-9 * r_max;
-    for i in 0..n_nodes {
-        if on_axis(i) {
-            cyl[i] = [u[i][1], 0.0, 0.0];
-            let in_plane = u[i][0] * u[i][0] + u[i][2] * u[i][2];
-            energy[0] += weights[i] * u[i][1] * u[i][1];
-            energy[1] += 0.5 * weights[i] * in_plane;
-            energy[2] += 0.5 * weights[i] * in_plane;
-            continue;
-        }
-        let (c, s) = (
-            (nodes[i][0] - centre[0]) / radius[i],
-            (nodes[i][2] - centre[2]) / radius[i],
-        );
-        let ur = u[i][0] * c + u[i][2] * s;
-        let ut = -u[i][0] * s + u[i][2] * c;
-        cyl[i] = [u[i][1], ur, ut];
-        for k in 0..3 {
-            energy[k] += weights[i] * cyl[i][k] * cyl[i][k];
-        }
-    }
-    let total: f64 = energy.iter().sum::<f64>().max(1e-300);
-    let share = energy.map(|e| e / total);
-    let fam_k = (0..3)
-        .max_by(|&a, &b| share[a].total_cmp(&share[b]))
-        .unwrap_or(0);
-    let axle_energy: f64 = (0..n_nodes)
-        .filter(|&i| is_axle(i))
-        .map(|i| weights[i] * (u[i][0] * u[i][0] + u[i][1] * u[i][1] + u[i][2] * u[i][2]))
-        .sum();
-    let all_energy: f64 = (0..n_nodes)
-        .map(|i| weights[i] * (u[i][0] * u[i][0] + u[i][1] * u[i][1] + u[i][2] * u[i][2]))
-        .sum();
-    let axle_mode =
-        all_energy > 0.0 && axle_energy / all_energy >= crate::modal::mode::AXLE_FAMILY_SHARE;
-    let family = if axle_mode {
-        ModeFamily::Axle
-    } else {
-        [
-            ModeFamily::Axial,
-            ModeFamily::Radial,
-            ModeFamily::Circumferential,
-        ][fam_k]
-    };
+}
 
-    let rim: Vec<usize> = (0..n_nodes).filter(|&i| radius[i] > 0.9 * r_max).collect();
-    let wsum: f64 = rim.iter().map(|&i| weights[i]).sum::<f64>().max(1e-300);
-    let n_max = 24usize;
-    let mut best = (0u32, -1.0);
-    for n in 0..=n_max {
-        let mut power = 0.0;
-        for k in 0..3 {
-            let (mut re, mut im) = (0.0, 0.0);
-            for &i in &rim {
-                let a = n as f64 * angle[i];
-                re += weights[i] * cyl[i][k] * a.cos();
-                im -= weights[i] * cyl[i][k] * a.sin();
-            }
-            let amp = re.hypot(im) / wsum * if n == 0 { 1.0 } else { 2.0 };
-            power += amp * amp;
-        }
-        // strictly larger by a relative margin: prefer the lower harmonic on ties (round-off)
-        if power > best.1 * (1.0 + 1e-9) {
-            best = (n as u32, power);
-        }
-    }
-    let nodal_diameters = best.0;
+/// A shape's samples about the axis, shared by the family, nodal-diameter and nodal-circle
+/// tests.
+struct ShapeSamples<'a> {
+    nodes: &'a [[f64; 3]],
+    weights: &'a [f64],
+    axle: &'a [bool],
+    u: &'a [[f64; 3]],
+    /// Per node: axial, radial, circumferential displacement.
+    cyl: Vec<[f64; 3]>,
+    /// Per node: distance from the axis.
+    radius: Vec<f64>,
+    /// Per node: angle about the axis.
+    angle: Vec<f64>,
+    /// The largest radius.
+    r_max: f64,
+}
 
-    // Nodal circles along the radius at the angle of largest rim motion.
-    let comp = fam_k;
-    let peak = rim
-        .iter()
-        .copied()
-        .max_by(|&a, &b| cyl[a][comp].abs().total_cmp(&cyl[b][comp].abs()));
-    let mut nodal_circles = 0;
-    if let Some(p) = peak {
-        let theta0 = angle[p];
-        let (c0, s0) = (theta0.cos(), theta0.sin());
-        let component = |i: usize, k: usize| {
+/// A shape's family and what decided it.
+struct FamilyTest {
+    family: ModeFamily,
+    /// The component with the largest energy share (0 axial, 1 radial, 2 circumferential).
+    component: usize,
+    /// Whether the axle holds at least the axle family's share of the kinetic energy.
+    axle_mode: bool,
+    /// Energy shares (axial, radial, circumferential).
+    share: [f64; 3],
+}
+
+impl<'a> ShapeSamples<'a> {
+    /// The cylindrical components of `u` about the y-parallel axis through `centre`, and the
+    /// kinetic energy per component (`sum w |u_c|²`).
+    fn new(
+        nodes: &'a [[f64; 3]],
+        weights: &'a [f64],
+        axle: &'a [bool],
+        centre: [f64; 3],
+        u: &'a [[f64; 3]],
+    ) -> (Self, [f64; 3]) {
+        let n_nodes = nodes.len();
+        let mut cyl = vec![[0.0; 3]; n_nodes]; // axial, radial, circumferential
+        let mut radius = vec![0.0; n_nodes];
+        let mut angle = vec![0.0; n_nodes];
+        let mut energy = [0.0; 3];
+        for i in 0..n_nodes {
+            let dx = nodes[i][0] - centre[0];
+            let dz = nodes[i][2] - centre[2];
+            radius[i] = dx.hypot(dz);
+            angle[i] = dz.atan2(dx);
+        }
+        let r_max = radius.iter().cloned().fold(0.0, f64::max);
+        // A node on the axis (a revolved section's solid core) has no radial direction: its
+        // in-plane motion is radial along one meridian and circumferential along the one at 90
+        // degrees, so it counts half to each (the average over the circle of a translation's
+        // u_r² and u_t²); in the nodal-circle walk it is projected on the walked meridian.
+        let on_axis = |i: usize| radius[i] <= 1e-9 * r_max;
+        for i in 0..n_nodes {
             if on_axis(i) {
-                [
-                    u[i][1],
-                    u[i][0] * c0 + u[i][2] * s0,
-                    -u[i][0] * s0 + u[i][2] * c0,
-                ][k]
-            } else {
-                cyl[i][k]
+                cyl[i] = [u[i][1], 0.0, 0.0];
+                let in_plane = u[i][0] * u[i][0] + u[i][2] * u[i][2];
+                energy[0] += weights[i] * u[i][1] * u[i][1];
+                energy[1] += 0.5 * weights[i] * in_plane;
+                energy[2] += 0.5 * weights[i] * in_plane;
+                continue;
             }
+            let (c, s) = (
+                (nodes[i][0] - centre[0]) / radius[i],
+                (nodes[i][2] - centre[2]) / radius[i],
+            );
+            let ur = u[i][0] * c + u[i][2] * s;
+            let ut = -u[i][0] * s + u[i][2] * c;
+            cyl[i] = [u[i][1], ur, ut];
+            for k in 0..3 {
+                energy[k] += weights[i] * cyl[i][k] * cyl[i][k];
+            }
+        }
+        let samples = ShapeSamples {
+            nodes,
+            weights,
+            axle,
+            u,
+            cyl,
+            radius,
+            angle,
+            r_max,
         };
+        (samples, energy)
+    }
+
+    /// Whether node `i` is one of the axle's.
+    fn is_axle(&self, i: usize) -> bool {
+        self.axle.get(i).copied().unwrap_or(false)
+    }
+
+    /// Whether node `i` lies on the axis (no radial direction of its own).
+    fn on_axis(&self, i: usize) -> bool {
+        self.radius[i] <= 1e-9 * self.r_max
+    }
+
+    /// The family: the axle's when the axle holds enough of the kinetic energy, else the
+    /// component with the largest share of `energy`.
+    fn family(&self, energy: [f64; 3]) -> FamilyTest {
+        let (weights, u) = (self.weights, self.u);
+        let n_nodes = self.nodes.len();
+        let total: f64 = energy.iter().sum::<f64>().max(1e-300);
+        let share = energy.map(|e| e / total);
+        let fam_k = (0..3)
+            .max_by(|&a, &b| share[a].total_cmp(&share[b]))
+            .unwrap_or(0);
+        let axle_energy: f64 = (0..n_nodes)
+            .filter(|&i| self.is_axle(i))
+            .map(|i| weights[i] * (u[i][0] * u[i][0] + u[i][1] * u[i][1] + u[i][2] * u[i][2]))
+            .sum();
+        let all_energy: f64 = (0..n_nodes)
+            .map(|i| weights[i] * (u[i][0] * u[i][0] + u[i][1] * u[i][1] + u[i][2] * u[i][2]))
+            .sum();
+        let axle_mode =
+            all_energy > 0.0 && axle_energy / all_energy >= crate::modal::mode::AXLE_FAMILY_SHARE;
+        let family = if axle_mode {
+            ModeFamily::Axle
+        } else {
+            [
+                ModeFamily::Axial,
+                ModeFamily::Radial,
+                ModeFamily::Circumferential,
+            ][fam_k]
+        };
+        FamilyTest {
+            family,
+            component: fam_k,
+            axle_mode,
+            share,
+        }
+    }
+
+    /// The nodal diameters: the circumferential harmonic (up to 24) with the largest Fourier
+    /// power of the `rim` nodes' motion, summed over the three components.
+    fn nodal_diameters(&self, rim: &[usize]) -> u32 {
+        let (weights, cyl, angle) = (self.weights, &self.cyl, &self.angle);
+        let wsum: f64 = rim.iter().map(|&i| weights[i]).sum::<f64>().max(1e-300);
+        let n_max = 24usize;
+        let mut best = (0u32, -1.0);
+        for n in 0..=n_max {
+            let mut power = 0.0;
+            for k in 0..3 {
+                let (mut re, mut im) = (0.0, 0.0);
+                for &i in rim {
+                    let a = n as f64 * angle[i];
+                    re += weights[i] * cyl[i][k] * a.cos();
+                    im -= weights[i] * cyl[i][k] * a.sin();
+                }
+                let amp = re.hypot(im) / wsum * if n == 0 { 1.0 } else { 2.0 };
+                power += amp * amp;
+            }
+            // strictly larger by a relative margin: prefer the lower harmonic on ties (round-off)
+            if power > best.1 * (1.0 + 1e-9) {
+                best = (n as u32, power);
+            }
+        }
+        best.0
+    }
+
+    /// The nodal circles along the meridian of largest rim motion in component `comp`: sign
+    /// changes of the wheel's binned radial profile, plus those along the axle where it moves
+    /// enough (an axle-family mode, `axle_mode`, counts along the axle only). 0 without rim
+    /// nodes.
+    fn nodal_circles(&self, rim: &[usize], comp: usize, axle_mode: bool) -> u32 {
+        let cyl = &self.cyl;
+        // Nodal circles along the radius at the angle of largest rim motion.
+        let peak = rim
+            .iter()
+            .copied()
+            .max_by(|&a, &b| cyl[a][comp].abs().total_cmp(&cyl[b][comp].abs()));
+        let mut nodal_circles = 0;
+        if let Some(p) = peak {
+            let theta0 = self.angle[p];
+            let (c0, s0) = (theta0.cos(), theta0.sin());
+            let meridian = self.meridian(theta0);
+            let wheel: Vec<usize> = meridian
+                .iter()
+                .copied()
+                .filter(|&i| !self.is_axle(i))
+                .collect();
+            let shaft: Vec<usize> = meridian
+                .iter()
+                .copied()
+                .filter(|&i| self.is_axle(i))
+                .collect();
+            let wheel_vals = self.binned(&wheel, &|i| self.radius[i], comp, (c0, s0));
+            // The axle's dominant component on the meridian, binned along the axle (y).
+            let mut axle_e = [0.0f64; 3];
+            for &i in &shaft {
+                for (k, e) in axle_e.iter_mut().enumerate() {
+                    *e += self.weights[i]
+                        * self.component(i, k, (c0, s0))
+                        * self.component(i, k, (c0, s0));
+                }
+            }
+            let axle_k = (0..3).fold(0, |b, k| if axle_e[k] > axle_e[b] { k } else { b });
+            let axle_vals = if shaft.is_empty() {
+                Vec::new()
+            } else {
+                self.binned(&shaft, &|i| self.nodes[i][1], axle_k, (c0, s0))
+            };
+            let peak_of = |v: &[f64]| v.iter().fold(0.0f64, |a, &x| a.max(x.abs()));
+            nodal_circles = if axle_mode {
+                sign_changes_above(&axle_vals, 0.05 * peak_of(&axle_vals))
+            } else {
+                let scale = peak_of(&wheel_vals).max(peak_of(&axle_vals));
+                sign_changes_above(&wheel_vals, 0.05 * scale)
+                    + sign_changes_above(&axle_vals, 0.05 * scale)
+            };
+        }
+        nodal_circles
+    }
+
+    /// Component `k` (axial, radial, circumferential) of node `i`'s motion on the meridian
+    /// whose direction is `(cos, sin)` of its angle: a node on the axis is projected on it.
+    fn component(&self, i: usize, k: usize, (c0, s0): (f64, f64)) -> f64 {
+        let u = self.u;
+        if self.on_axis(i) {
+            [
+                u[i][1],
+                u[i][0] * c0 + u[i][2] * s0,
+                -u[i][0] * s0 + u[i][2] * c0,
+            ][k]
+        } else {
+            self.cyl[i][k]
+        }
+    }
+
+    /// The nodes on the meridian at angle `theta0`.
+    fn meridian(&self, theta0: f64) -> Vec<usize> {
+        let (angle, radius, r_max) = (&self.angle, &self.radius, self.r_max);
         // nodes within a small angular window of theta0 (revolved meshes: the same meridian)
         let window = 0.02;
-        let meridian: Vec<usize> = (0..n_nodes)
+        (0..self.nodes.len())
             .filter(|&i| {
                 let mut d = (angle[i] - theta0).rem_euclid(std::f64::consts::TAU);
                 if d > std::f64::consts::PI {
@@ -277,60 +419,40 @@ pub fn classify_shape_points(
                 }
                 d.abs() * radius[i] <= window * r_max
             })
-            .collect();
-        let bins = 24usize;
-        let binned = |members: &[usize], coord: &dyn Fn(usize) -> f64, k: usize| -> Vec<f64> {
-            let lo = members
-                .iter()
-                .map(|&i| coord(i))
-                .fold(f64::INFINITY, f64::min);
-            let hi = members
-                .iter()
-                .map(|&i| coord(i))
-                .fold(f64::NEG_INFINITY, f64::max);
-            let mut sum = vec![0.0; bins];
-            let mut cnt = vec![0.0; bins];
-            for &i in members {
-                let b = (((coord(i) - lo) / (hi - lo + 1e-300)) * bins as f64) as usize;
-                let b = b.min(bins - 1);
-                sum[b] += weights[i] * component(i, k);
-                cnt[b] += weights[i];
-            }
-            (0..bins)
-                .filter(|&b| cnt[b] > 0.0)
-                .map(|b| sum[b] / cnt[b])
-                .collect()
-        };
-        let wheel: Vec<usize> = meridian.iter().copied().filter(|&i| !is_axle(i)).collect();
-        let shaft: Vec<usize> = meridian.iter().copied().filter(|&i| is_axle(i)).collect();
-        let wheel_vals = binned(&wheel, &|i| radius[i], comp);
-        // The axle's dominant component on the meridian, binned along the axle (y).
-        let mut axle_e = [0.0f64; 3];
-        for &i in &shaft {
-            for (k, e) in axle_e.iter_mut().enumerate() {
-                *e += weights[i] * component(i, k) * component(i, k);
-            }
-        }
-        let axle_k = (0..3).fold(0, |b, k| if axle_e[k] > axle_e[b] { k } else { b });
-        let axle_vals = if shaft.is_empty() {
-            Vec::new()
-        } else {
-            binned(&shaft, &|i| nodes[i][1], axle_k)
-        };
-        let peak_of = |v: &[f64]| v.iter().fold(0.0f64, |a, &x| a.max(x.abs()));
-        nodal_circles = if axle_mode {
-            sign_changes_above(&axle_vals, 0.05 * peak_of(&axle_vals))
-        } else {
-            let scale = peak_of(&wheel_vals).max(peak_of(&axle_vals));
-            sign_changes_above(&wheel_vals, 0.05 * scale)
-                + sign_changes_above(&axle_vals, 0.05 * scale)
-        };
+            .collect()
     }
-    ShapeClass {
-        family,
-        nodal_diameters,
-        nodal_circles,
-        energy_share: share,
+
+    /// Component `k` of `members` averaged (mass-weighted) in 24 bins of `coord` from its
+    /// smallest to its largest value; empty bins are left out.
+    fn binned(
+        &self,
+        members: &[usize],
+        coord: &dyn Fn(usize) -> f64,
+        k: usize,
+        meridian: (f64, f64),
+    ) -> Vec<f64> {
+        let weights = self.weights;
+        let bins = 24usize;
+        let lo = members
+            .iter()
+            .map(|&i| coord(i))
+            .fold(f64::INFINITY, f64::min);
+        let hi = members
+            .iter()
+            .map(|&i| coord(i))
+            .fold(f64::NEG_INFINITY, f64::max);
+        let mut sum = vec![0.0; bins];
+        let mut cnt = vec![0.0; bins];
+        for &i in members {
+            let b = (((coord(i) - lo) / (hi - lo + 1e-300)) * bins as f64) as usize;
+            let b = b.min(bins - 1);
+            sum[b] += weights[i] * self.component(i, k, meridian);
+            cnt[b] += weights[i];
+        }
+        (0..bins)
+            .filter(|&b| cnt[b] > 0.0)
+            .map(|b| sum[b] / cnt[b])
+            .collect()
     }
 }
 

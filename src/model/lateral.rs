@@ -108,6 +108,146 @@ impl LateralRamp {
         // v (1 - S) integrated: v ts (x - int S).
         (at_t1 + v * ts * (x - int_s), v * (1.0 - s))
     }
+
+    /// Checks of a ramp, field by field (onset, transition times, velocity, travel): each
+    /// names its field and range through `err`. The travel must at least cover the rise and
+    /// the settling, or the cruise would last a negative time.
+    fn check(&self, err: &impl Fn(&str, String) -> Error, end_time_s: f64) -> Result<()> {
+        let r = self;
+        if !(r.start_s >= 0.0 && r.start_s < end_time_s) {
+            return Err(err(
+                "start_s",
+                format!(
+                    "the onset must lie in [0, end_time_s = {end_time_s}) s (got {})",
+                    r.start_s
+                ),
+            ));
+        }
+        for (name, x) in [
+            ("rise_time_s", r.rise_time_s),
+            ("settle_time_s", r.settle_time_s),
+        ] {
+            if !(x > 0.0 && x <= 1.0) {
+                return Err(err(
+                    name,
+                    format!("must lie in (0, 1] s (got {x}); a zero time is a velocity step"),
+                ));
+            }
+        }
+        let v = r.velocity_m_per_s;
+        if !(v != 0.0 && v.abs() <= LATERAL_SPEED_LIMIT_M_PER_S) {
+            return Err(err(
+                "velocity_m_per_s",
+                format!(
+                    "must lie in [-{LATERAL_SPEED_LIMIT_M_PER_S}, \
+                     {LATERAL_SPEED_LIMIT_M_PER_S}] m/s and not be 0 (got {v}); \
+                     leave lateral_motion out for no motion"
+                ),
+            ));
+        }
+        let shortest = 0.5 * v.abs() * (r.rise_time_s + r.settle_time_s);
+        if !(r.travel_m >= shortest && r.travel_m <= 0.05) {
+            return Err(err(
+                "travel_m",
+                format!(
+                    "must lie in [{shortest:.3e}, 0.05] m (got {}): the rise and the \
+                     settling alone cover |v| (rise_time_s + settle_time_s) / 2",
+                    r.travel_m
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl LateralTable {
+    /// The table as data: at least two points, as many displacements as times, finite times,
+    /// displacements within 5 cm, times strictly increasing (the interpolant divides by the
+    /// time steps).
+    fn check_points(&self, err: &impl Fn(&str, String) -> Error) -> Result<()> {
+        let t = self;
+        if t.times_s.len() < 2 || t.times_s.len() != t.displacements_m.len() {
+            return Err(err(
+                "times_s",
+                format!(
+                    "needs at least 2 points and as many displacements as times (got {} \
+                     times, {} displacements)",
+                    t.times_s.len(),
+                    t.displacements_m.len()
+                ),
+            ));
+        }
+        for (k, (&tk, &dk)) in t.times_s.iter().zip(&t.displacements_m).enumerate() {
+            if !tk.is_finite() {
+                return Err(err(
+                    &format!("times_s[{k}]"),
+                    format!("must be a finite time in s (got {tk})"),
+                ));
+            }
+            if !(dk.is_finite() && dk.abs() <= 0.05) {
+                return Err(err(
+                    &format!("displacements_m[{k}]"),
+                    format!("must lie in [-0.05, 0.05] m (got {dk})"),
+                ));
+            }
+        }
+        for k in 1..t.times_s.len() {
+            if !(t.times_s[k] > t.times_s[k - 1]) {
+                return Err(err(
+                    &format!("times_s[{k}]"),
+                    format!(
+                        "times must increase strictly ({} s follows {} s)",
+                        t.times_s[k],
+                        t.times_s[k - 1]
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The table as a motion (after [`LateralTable::check_points`]): an onset within the run,
+    /// a start from the preloaded position (no jump of the axle at the onset), and no step
+    /// between two points faster than [`LATERAL_SPEED_LIMIT_M_PER_S`].
+    fn check_motion(&self, err: &impl Fn(&str, String) -> Error, end_time_s: f64) -> Result<()> {
+        let t = self;
+        if !(t.times_s[0] >= 0.0 && t.times_s[0] < end_time_s) {
+            return Err(err(
+                "times_s[0]",
+                format!(
+                    "the onset must lie in [0, end_time_s = {end_time_s}) s (got {})",
+                    t.times_s[0]
+                ),
+            ));
+        }
+        if t.displacements_m[0] != 0.0 {
+            return Err(err(
+                "displacements_m[0]",
+                format!(
+                    "must be 0 m, the preloaded position (got {}): anything else is a \
+                     jump of the axle at the onset, and the displacement must be \
+                     continuous",
+                    t.displacements_m[0]
+                ),
+            ));
+        }
+        for k in 1..t.times_s.len() {
+            let speed = (t.displacements_m[k] - t.displacements_m[k - 1]).abs()
+                / (t.times_s[k] - t.times_s[k - 1]);
+            if speed > LATERAL_SPEED_LIMIT_M_PER_S {
+                return Err(err(
+                    &format!("displacements_m[{k}]"),
+                    format!(
+                        "a step of {:.3e} m in {:.3e} s ({speed:.1} m/s) is a jump: the \
+                         lateral speed must stay within {LATERAL_SPEED_LIMIT_M_PER_S} m/s",
+                        t.displacements_m[k] - t.displacements_m[k - 1],
+                        t.times_s[k] - t.times_s[k - 1]
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Monotone cubic Hermite slopes (Fritsch-Carlson) with zero slope at both ends.
@@ -151,133 +291,15 @@ impl LateralMotion {
     }
 
     /// Checks the history against the case's end time; errors name `field` and the range.
-    ///
-    /// Kept in one piece: a flat list of checks, one per field, each naming its field and range.
     pub fn validate(&self, source: &str, field: &str, end_time_s: f64) -> Result<()> {
         let err = |sub: &str, msg: String| Error::input(source, format!("{field}.{sub}"), msg);
         match self {
-            LateralMotion::Ramp(r) => {
-                if !(r.start_s >= 0.0 && r.start_s < end_time_s) {
-                    return Err(err(
-                        "start_s",
-                        format!(
-                            "the onset must lie in [0, end_time_s = {end_time_s}) s (got {})",
-                            r.start_s
-                        ),
-                    ));
-                }
-                for (name, x) in [
-                    ("rise_time_s", r.rise_time_s),
-                    ("settle_time_s", r.settle_time_s),
-                ] {
-                    if !(x > 0.0 && x <= 1.0) {
-                        return Err(err(
-                            name,
-                            format!(
-                                "must lie in (0, 1] s (got {x}); a zero time is a velocity step"
-                            ),
-                        ));
-                    }
-                }
-                let v = r.velocity_m_per_s;
-                if !(v != 0.0 && v.abs() <= LATERAL_SPEED_LIMIT_M_PER_S) {
-                    return Err(err(
-                        "velocity_m_per_s",
-                        format!(
-                            "must lie in [-{LATERAL_SPEED_LIMIT_M_PER_S}, \
-                             {LATERAL_SPEED_LIMIT_M_PER_S}] m/s and not be 0 (got {v}); \
-                             leave lateral_motion out for no motion"
-                        ),
-                    ));
-                }
-                let shortest = 0.5 * v.abs() * (r.rise_time_s + r.settle_time_s);
-                if !(r.travel_m >= shortest && r.travel_m <= 0.05) {
-                    return Err(err(
-                        "travel_m",
-                        format!(
-                            "must lie in [{shortest:.3e}, 0.05] m (got {}): the rise and the \
-                             settling alone cover |v| (rise_time_s + settle_time_s) / 2",
-                            r.travel_m
-                        ),
-                    ));
-                }
-            }
+            LateralMotion::Ramp(r) => r.check(&err, end_time_s),
             LateralMotion::Table(t) => {
-                if t.times_s.len() < 2 || t.times_s.len() != t.displacements_m.len() {
-                    return Err(err(
-                        "times_s",
-                        format!(
-                            "needs at least 2 points and as many displacements as times (got {} \
-                             times, {} displacements)",
-                            t.times_s.len(),
-                            t.displacements_m.len()
-                        ),
-                    ));
-                }
-                for (k, (&tk, &dk)) in t.times_s.iter().zip(&t.displacements_m).enumerate() {
-                    if !tk.is_finite() {
-                        return Err(err(
-                            &format!("times_s[{k}]"),
-                            format!("must be a finite time in s (got {tk})"),
-                        ));
-                    }
-                    if !(dk.is_finite() && dk.abs() <= 0.05) {
-                        return Err(err(
-                            &format!("displacements_m[{k}]"),
-                            format!("must lie in [-0.05, 0.05] m (got {dk})"),
-                        ));
-                    }
-                }
-                for k in 1..t.times_s.len() {
-                    if !(t.times_s[k] > t.times_s[k - 1]) {
-                        return Err(err(
-                            &format!("times_s[{k}]"),
-                            format!(
-                                "times must increase strictly ({} s follows {} s)",
-                                t.times_s[k],
-                                t.times_s[k - 1]
-                            ),
-                        ));
-                    }
-                }
-                if !(t.times_s[0] >= 0.0 && t.times_s[0] < end_time_s) {
-                    return Err(err(
-                        "times_s[0]",
-                        format!(
-                            "the onset must lie in [0, end_time_s = {end_time_s}) s (got {})",
-                            t.times_s[0]
-                        ),
-                    ));
-                }
-                if t.displacements_m[0] != 0.0 {
-                    return Err(err(
-                        "displacements_m[0]",
-                        format!(
-                            "must be 0 m, the preloaded position (got {}): anything else is a \
-                             jump of the axle at the onset, and the displacement must be \
-                             continuous",
-                            t.displacements_m[0]
-                        ),
-                    ));
-                }
-                for k in 1..t.times_s.len() {
-                    let speed = (t.displacements_m[k] - t.displacements_m[k - 1]).abs()
-                        / (t.times_s[k] - t.times_s[k - 1]);
-                    if speed > LATERAL_SPEED_LIMIT_M_PER_S {
-                        return Err(err(
-                            &format!("displacements_m[{k}]"),
-                            format!(
-                                "a step of {:.3e} m in {:.3e} s ({speed:.1} m/s) is a jump: the \
-                                 lateral speed must stay within {LATERAL_SPEED_LIMIT_M_PER_S} m/s",
-                                t.displacements_m[k] - t.displacements_m[k - 1],
-                                t.times_s[k] - t.times_s[k - 1]
-                            ),
-                        ));
-                    }
-                }
+                t.check_points(&err)?;
+                t.check_motion(&err, end_time_s)
             }
         }
-        Ok(())
     }
 
     /// The displacement history as a C1 curve (m against s) for the axle's prescribed

@@ -179,9 +179,58 @@ fn prepare_run_directory(opts: &SimulateOptions) -> Result<()> {
 
 /// Runs one case into `opts.out_dir`.
 ///
-/// Kept in one piece: the run's stages in order (build, preload, rolling start, time loop,
-/// records), each a function of its own.
+/// The run's stages in order, each a function of its own: the case as run, the run folder,
+/// the model, the preload and rolling start (or the resume), the run's stepping, then the time
+/// loop with its records.
 pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord> {
+    let (case, loaded_case) = case_for_run(loaded, opts)?;
+    // A run still writing into the folder (a resume started beside it) keeps it: checked
+    // before an `--overwrite` could clear it, and held from here to the end of this run.
+    crate::output::FolderLock::refuse_if_held(&opts.out_dir)?;
+    prepare_run_directory(opts)?;
+    let _claim = crate::output::FolderLock::acquire(&opts.out_dir)?;
+    // The modes that label the run's peaks, before its minutes or hours of stepping.
+    wheel_modes::write_run_wheel_modes(&loaded.scenario.wheel, &opts.out_dir, opts.resume)?;
+    // Read before anything of the resume is written.
+    let earlier = opts
+        .resume
+        .then(|| earlier_record(&opts.out_dir.join("run.json")))
+        .flatten();
+    let source = loaded.source.display().to_string();
+    let mut m = build_for_run(&loaded_case, &case, opts, &source)?;
+    let (preload, static_preload) = if !opts.resume {
+        let reports = run_preload(&mut m, &case, opts, &source)?;
+        start_rolling(&mut m, &case)?;
+        reports
+    } else {
+        if case.hold_forward_speed {
+            hold_forward_speed(&mut m, case.speed_m_per_s())?;
+        }
+        (None, None)
+    };
+    let run_opts = run_options(&m, &case, opts);
+    // After the preload and the prescribed motions, so that their nodes stay fine.
+    let choice = stepping::choose_stepping(&m, &case.time_stepping, opts.multi_rate, &source)?;
+    stepping::apply_stepping(&mut m, &choice)?;
+    m.contact.resuming = opts.resume;
+    // The invariants are the rolling run's: the frictionless preload's steps are left out.
+    m.contact.pair.reset_monitors();
+    let parts = RecordParts {
+        case: case.name.clone(),
+        case_file: loaded.source.display().to_string(),
+        scenario: loaded.scenario.scenario.name.clone(),
+        settings: case,
+        model: m.info.clone(),
+        preload,
+        static_preload,
+    };
+    run_and_record(&mut m, parts, &run_opts, &opts.out_dir, earlier)
+}
+
+/// The case as this run runs it: the end time overridden by `opts` (within 1 s; later patch
+/// and VTU times dropped), with the loaded case around it. A resume of a run with a prescribed
+/// creepage is refused.
+fn case_for_run(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<(RollingCase, LoadedCase)> {
     let mut case = loaded.case.clone();
     if let Some(t) = opts.end_time_s {
         if !(t > 0.0 && t <= 1.0) {
@@ -209,90 +258,107 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
             "runs with a prescribed creepage cannot be resumed; start them again",
         ));
     }
-    // A run still writing into the folder (a resume started beside it) keeps it: checked
-    // before an `--overwrite` could clear it, and held from here to the end of this run.
-    crate::output::FolderLock::refuse_if_held(&opts.out_dir)?;
-    prepare_run_directory(opts)?;
-    let _claim = crate::output::FolderLock::acquire(&opts.out_dir)?;
-    // The modes that label the run's peaks, before its minutes or hours of stepping.
-    wheel_modes::write_run_wheel_modes(&loaded.scenario.wheel, &opts.out_dir, opts.resume)?;
-    // Read before anything of the resume is written.
-    let earlier = opts
-        .resume
-        .then(|| earlier_record(&opts.out_dir.join("run.json")))
-        .flatten();
-    let mut m = build(&loaded_case)?;
+    Ok((case, loaded_case))
+}
+
+/// The rolling model of the run, writing into the run folder, and an early check that its
+/// stepping request can be met (`source` names the case file).
+fn build_for_run(
+    loaded_case: &LoadedCase,
+    case: &RollingCase,
+    opts: &SimulateOptions,
+    source: &str,
+) -> Result<RollingModel> {
+    let mut m = build(loaded_case)?;
     m.contact.out_dir = opts.out_dir.clone();
     if opts.verify_contact_region {
         m.contact.pair.verify_region_every_steps = 1;
     }
     // A refused subcycling request stops here, before the preload's minutes (decided again
     // below, once the prescribed motions have their nodes).
-    let source = loaded.source.display().to_string();
-    stepping::choose_stepping(&m, &case.time_stepping, opts.multi_rate, &source)?;
+    stepping::choose_stepping(&m, &case.time_stepping, opts.multi_rate, source)?;
+    Ok(m)
+}
+
+/// The static preload by the case's (or the options') method, without friction; the wheel
+/// must be in contact afterwards. Returns the dynamic relaxation's or the implicit solve's
+/// report.
+fn run_preload(
+    m: &mut RollingModel,
+    case: &RollingCase,
+    opts: &SimulateOptions,
+    source: &str,
+) -> Result<(Option<PreloadReport>, Option<StaticReport>)> {
     let mut preload = None;
     let mut static_preload = None;
-    if !opts.resume {
-        // Frictionless preload: while the wheel settles its rim turns a little and the contact
-        // points creep sideways; with friction that path would leave the lateral stick forces
-        // saturated at the bound before the wheel has even started rolling.
-        let friction = m.contact.pair.suspend_friction();
-        let method = opts.preload_method.unwrap_or(case.preload.method);
-        let outcome = match method {
-            PreloadMethod::DynamicRelaxation => {
-                relaxation_preload(&mut m, &case, opts).map(|r| preload = Some(r))
-            }
-            PreloadMethod::Implicit | PreloadMethod::ImplicitIterative => {
-                implicit_preload(&mut m, &case.preload, linear_solver_of(method), &opts.stop).map(
-                    |r| {
-                        static_preload = Some(r);
-                    },
-                )
-            }
-        };
-        m.contact.pair.resume_friction(friction);
-        outcome?;
-        if !m.contact.pair.state.iter().any(|s| s.active) {
-            return Err(Error::input(
-                loaded.source.display().to_string(),
-                "model_scenario: wheel_position.initial_gap_mm",
-                "the wheel is not in contact with the rail after the preload: the initial gap is \
-                 too large or the contact surfaces do not face each other",
-            ));
+    // Frictionless preload: while the wheel settles its rim turns a little and the contact
+    // points creep sideways; with friction that path would leave the lateral stick forces
+    // saturated at the bound before the wheel has even started rolling.
+    let friction = m.contact.pair.suspend_friction();
+    let method = opts.preload_method.unwrap_or(case.preload.method);
+    let outcome = match method {
+        PreloadMethod::DynamicRelaxation => {
+            relaxation_preload(m, case, opts).map(|r| preload = Some(r))
         }
-        if opts.progress {
-            if let Some(r) = &static_preload {
-                eprintln!(
-                    "preload (implicit): {} iterations, {} factorisations, relative residual {:.2e}, {:.1} s",
-                    r.iterations, r.factorisations, r.relative_residual, r.seconds
-                );
-            }
+        PreloadMethod::Implicit | PreloadMethod::ImplicitIterative => {
+            implicit_preload(m, &case.preload, linear_solver_of(method), &opts.stop).map(|r| {
+                static_preload = Some(r);
+            })
         }
-        // Rolling: v = V e_x + (V / R) e_y x (x - centre) on the wheelset; the sprung mass
-        // moves with it.
-        // The preloaded wheel has sunk into its track: take the centre from the hub nodes and
-        // the rolling radius from it to the loaded contact nodes (force-weighted), so that the
-        // contact points start without slip.
-        let speed = case.speed_m_per_s();
-        let (centre, radius) = loaded_centre_and_radius(&m);
-        m.info.rolling_radius_m = radius;
-        m.info.wheel_centre_m = centre;
-        let omega = [0.0, speed / radius, 0.0];
-        let nodes = m.wheelset_nodes.clone();
-        m.solver
-            .set_initial_velocity(Some(&nodes), [speed, 0.0, 0.0], omega, centre);
-        m.solver.v[m.sprung_node] = [speed, 0.0, 0.0];
-        if let Some(ramp) = case.creepage {
-            prescribe_creepage(&mut m, &ramp, speed, radius)?;
-        } else if case.hold_forward_speed {
-            hold_forward_speed(&mut m, speed)?;
-        }
-        m.solver.rebase_energy();
-    } else if case.hold_forward_speed {
-        hold_forward_speed(&mut m, case.speed_m_per_s())?;
+    };
+    m.contact.pair.resume_friction(friction);
+    outcome?;
+    if !m.contact.pair.state.iter().any(|s| s.active) {
+        return Err(Error::input(
+            source,
+            "model_scenario: wheel_position.initial_gap_mm",
+            "the wheel is not in contact with the rail after the preload: the initial gap is \
+             too large or the contact surfaces do not face each other",
+        ));
     }
+    if opts.progress {
+        if let Some(r) = &static_preload {
+            eprintln!(
+                "preload (implicit): {} iterations, {} factorisations, relative residual {:.2e}, {:.1} s",
+                r.iterations, r.factorisations, r.relative_residual, r.seconds
+            );
+        }
+    }
+    Ok((preload, static_preload))
+}
+
+/// The rolling start on the preloaded model: the wheelset's rolling velocity about the loaded
+/// centre, the sprung mass moving with it, the prescribed creepage or forward speed, and the
+/// energy bookkeeping rebased there.
+fn start_rolling(m: &mut RollingModel, case: &RollingCase) -> Result<()> {
+    // Rolling: v = V e_x + (V / R) e_y x (x - centre) on the wheelset; the sprung mass
+    // moves with it.
+    // The preloaded wheel has sunk into its track: take the centre from the hub nodes and
+    // the rolling radius from it to the loaded contact nodes (force-weighted), so that the
+    // contact points start without slip.
+    let speed = case.speed_m_per_s();
+    let (centre, radius) = loaded_centre_and_radius(m);
+    m.info.rolling_radius_m = radius;
+    m.info.wheel_centre_m = centre;
+    let omega = [0.0, speed / radius, 0.0];
+    let nodes = m.wheelset_nodes.clone();
+    m.solver
+        .set_initial_velocity(Some(&nodes), [speed, 0.0, 0.0], omega, centre);
+    m.solver.v[m.sprung_node] = [speed, 0.0, 0.0];
+    if let Some(ramp) = case.creepage {
+        prescribe_creepage(m, &ramp, speed, radius)?;
+    } else if case.hold_forward_speed {
+        hold_forward_speed(m, speed)?;
+    }
+    m.solver.rebase_energy();
+    Ok(())
+}
+
+/// The engine's options of the rolling run: the case's end time, sampling, snapshots and
+/// checkpoints, the wheel centre's probes, and the options' folder, resume, progress and stop.
+fn run_options(m: &RollingModel, case: &RollingCase, opts: &SimulateOptions) -> RunOptions {
     let sample_interval_s = 1.0 / case.output.sample_rate_hz;
-    let run_opts = RunOptions {
+    RunOptions {
         end_time_s: case.end_time_s,
         sample_interval_s,
         energy_every_samples: 10,
@@ -304,23 +370,19 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         progress: opts.progress,
         balance_threshold: 0.05,
         stop: opts.stop.clone(),
-    };
-    // After the preload and the prescribed motions, so that their nodes stay fine.
-    let choice = stepping::choose_stepping(&m, &case.time_stepping, opts.multi_rate, &source)?;
-    stepping::apply_stepping(&mut m, &choice)?;
-    m.contact.resuming = opts.resume;
-    // The invariants are the rolling run's: the frictionless preload's steps are left out.
-    m.contact.pair.reset_monitors();
-    let parts = RecordParts {
-        case: case.name.clone(),
-        case_file: loaded.source.display().to_string(),
-        scenario: loaded.scenario.scenario.name.clone(),
-        settings: case,
-        model: m.info.clone(),
-        preload,
-        static_preload,
-    };
-    let record_path = opts.out_dir.join("run.json");
+    }
+}
+
+/// The time loop and its records: `run.json` at each periodic checkpoint and at the end,
+/// merged with the `earlier` segments' record on a resume.
+fn run_and_record(
+    m: &mut RollingModel,
+    parts: RecordParts,
+    run_opts: &RunOptions,
+    out_dir: &Path,
+    earlier: Option<serde_json::Value>,
+) -> Result<RunRecord> {
+    let record_path = out_dir.join("run.json");
     // `run.json` with each periodic checkpoint (status `running`): a process killed later
     // leaves the record of its run up to its last checkpoint, which the resume merges.
     let at_checkpoint = (parts.clone(), record_path.clone(), earlier.clone());
@@ -332,7 +394,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
             earlier.as_ref(),
         )
     }));
-    let summary = run(&mut m.solver, &mut m.contact, &run_opts)?;
+    let summary = run(&mut m.solver, &mut m.contact, run_opts)?;
     m.contact.checkpoint_record = None;
     m.contact.flush()?;
     let record = parts.record(summary, &m.contact);

@@ -199,9 +199,41 @@ fn fast_fft_length(n: usize) -> usize {
 
 /// Morlet CWT power of `signal` sampled at `sample_rate_hz` (see the module documentation).
 ///
-/// Kept in one piece: the FFT of the signal is shared by every scale's product and inverse
-/// transform in one loop.
+/// The phases: checks of the signal and the scales, the padded length, the signal's FFT
+/// (shared by every scale), one inverse transform per scale, and the result's layout.
 pub fn morlet_cwt(signal: &[f64], sample_rate_hz: f64, scales: &Scales) -> Result<WaveletPower> {
+    check_signal(signal, sample_rate_hz)?;
+    let n = signal.len();
+    let dt = 1.0 / sample_rate_hz;
+    let lambda = morlet_fourier_factor(MORLET_OMEGA0);
+    let scale_s = scales.scales_s();
+    check_scales(&scale_s, lambda, sample_rate_hz, n)?;
+    let padded_length = fft_length_for(&scale_s, dt, n);
+
+    let mut planner = FftPlanner::<f64>::new();
+    let forward: Arc<dyn Fft<f64>> = planner.plan_fft_forward(padded_length);
+    let inverse: Arc<dyn Fft<f64>> = planner.plan_fft_inverse(padded_length);
+
+    let signal_hat = signal_spectrum(signal, padded_length, &*forward);
+    let power_by_scale = power_rows(&signal_hat, &scale_s, dt, n, &*inverse);
+    let power = time_by_frequency(&power_by_scale, n);
+
+    let coi_period_s =
+        Array1::from_shape_fn(n, |i| lambda * (i.min(n - 1 - i) as f64 * dt) / 2f64.sqrt());
+    let frequency_hz = scale_s.iter().map(|s| 1.0 / (lambda * s)).collect();
+    Ok(WaveletPower {
+        sample_rate_hz,
+        time_count: n,
+        scale_s: Array1::from_vec(scale_s),
+        frequency_hz,
+        power,
+        coi_period_s,
+    })
+}
+
+/// The series must be usable: a finite positive sample rate, at least two samples, every
+/// sample finite (one NaN would spread through every FFT bin).
+fn check_signal(signal: &[f64], sample_rate_hz: f64) -> Result<()> {
     if !(sample_rate_hz.is_finite() && sample_rate_hz > 0.0) {
         return Err(Error::input(
             "cwt",
@@ -224,9 +256,13 @@ pub fn morlet_cwt(signal: &[f64], sample_rate_hz: f64, scales: &Scales) -> Resul
             format!("sample {index} is not finite"),
         ));
     }
-    let dt = 1.0 / sample_rate_hz;
-    let lambda = morlet_fourier_factor(MORLET_OMEGA0);
-    let scale_s = scales.scales_s();
+    Ok(())
+}
+
+/// The scales must be some, each finite and positive, with a Fourier frequency `1 / (lambda
+/// s)` at most the Nyquist frequency (above it the wavelet is not resolved by the sampling),
+/// and their power map over `n` samples within [`MAX_POWER_MAP_BYTES`].
+fn check_scales(scale_s: &[f64], lambda: f64, sample_rate_hz: f64, n: usize) -> Result<()> {
     if scale_s.is_empty() {
         return Err(Error::input("cwt", "scales", "no scales requested"));
     }
@@ -245,7 +281,7 @@ pub fn morlet_cwt(signal: &[f64], sample_rate_hz: f64, scales: &Scales) -> Resul
         ));
     }
     let nyquist_hz = sample_rate_hz / 2.0;
-    for &s in &scale_s {
+    for &s in scale_s {
         let frequency_hz = 1.0 / (lambda * s);
         if !(s.is_finite() && s > 0.0) {
             return Err(Error::input(
@@ -265,17 +301,26 @@ pub fn morlet_cwt(signal: &[f64], sample_rate_hz: f64, scales: &Scales) -> Resul
             ));
         }
     }
+    Ok(())
+}
 
+/// The FFT length L: the record plus the zero padding, rounded up to a fast length.
+fn fft_length_for(scale_s: &[f64], dt: f64, n: usize) -> usize {
     // Zero padding (module documentation): six e-folding times of the largest wavelet, capped.
     let largest_scale_s = scale_s.iter().cloned().fold(0.0, f64::max);
     let halfwidth_samples = ((6.0 * 2f64.sqrt() * largest_scale_s / dt).ceil() as usize).min(2 * n);
-    let padded_length = fast_fft_length(n + halfwidth_samples);
+    fast_fft_length(n + halfwidth_samples)
+}
 
-    let mut planner = FftPlanner::<f64>::new();
-    let forward: Arc<dyn Fft<f64>> = planner.plan_fft_forward(padded_length);
-    let inverse: Arc<dyn Fft<f64>> = planner.plan_fft_inverse(padded_length);
-
+/// The spectrum `x^_k` of the mean-removed series, zero-padded to `padded_length`: computed
+/// once and shared by every scale's product.
+fn signal_spectrum(
+    signal: &[f64],
+    padded_length: usize,
+    forward: &dyn Fft<f64>,
+) -> Vec<Complex<f64>> {
     // x^_k of the mean-removed, zero-padded series (eq. 3, including the 1/L).
+    let n = signal.len();
     let mean = signal.iter().sum::<f64>() / n as f64;
     let mut signal_hat = vec![Complex::new(0.0, 0.0); padded_length];
     for (z, x) in signal_hat.iter_mut().zip(signal) {
@@ -286,12 +331,24 @@ pub fn morlet_cwt(signal: &[f64], sample_rate_hz: f64, scales: &Scales) -> Resul
     for z in signal_hat.iter_mut() {
         *z *= inv_length;
     }
+    signal_hat
+}
 
+/// `|W_n(s)|^2` for n < `n`, one row per scale (eq. 4): the spectrum times the scaled
+/// wavelet's, transformed back. The scales run in parallel, each worker with its own buffers.
+fn power_rows(
+    signal_hat: &[Complex<f64>],
+    scale_s: &[f64],
+    dt: f64,
+    n: usize,
+    inverse: &dyn Fft<f64>,
+) -> Vec<Vec<f64>> {
+    let padded_length = signal_hat.len();
     // One row of |W|^2 per scale, in parallel; each worker owns its buffers.
     let angular_step = 2.0 * PI / (padded_length as f64 * dt);
     let positive_end = padded_length / 2; // w_k > 0 for k = 1..=L/2 (eq. 5)
     let quarter_root_pi = PI.powf(-0.25);
-    let power_by_scale: Vec<Vec<f64>> = scale_s
+    scale_s
         .par_iter()
         .map_init(
             || {
@@ -319,28 +376,20 @@ pub fn morlet_cwt(signal: &[f64], sample_rate_hz: f64, scales: &Scales) -> Resul
                     .collect::<Vec<f64>>()
             },
         )
-        .collect();
+        .collect()
+}
 
+/// The rows of [`power_rows`] transposed to time x frequency (`power[[n, j]]`).
+fn time_by_frequency(power_by_scale: &[Vec<f64>], n: usize) -> Array2<f64> {
     // Transpose to time x frequency.
-    let frequency_count = scale_s.len();
+    let frequency_count = power_by_scale.len();
     let mut power = Array2::zeros((n, frequency_count));
     for (j, row) in power_by_scale.iter().enumerate() {
         for (time_index, value) in row.iter().enumerate() {
             power[[time_index, j]] = *value;
         }
     }
-
-    let coi_period_s =
-        Array1::from_shape_fn(n, |i| lambda * (i.min(n - 1 - i) as f64 * dt) / 2f64.sqrt());
-    let frequency_hz = scale_s.iter().map(|s| 1.0 / (lambda * s)).collect();
-    Ok(WaveletPower {
-        sample_rate_hz,
-        time_count: n,
-        scale_s: Array1::from_vec(scale_s),
-        frequency_hz,
-        power,
-        coi_period_s,
-    })
+    power
 }
 
 #[cfg(test)]

@@ -292,9 +292,9 @@ impl Track {
 
     /// The model of one direction with the contact at `x_contact_m`.
     ///
-    /// Kept in one piece: the node positions, the dof numbering (sleepers beside their pads),
-    /// the held dofs and the element and support entries all index the same nodes and
-    /// sleepers.
+    /// The phases index the same nodes and sleepers: node positions, the pads' footprints, the
+    /// dof numbering (sleepers beside their pads), the held dofs, the element and support
+    /// entries, the renumbering without the held dofs, and the observed points' weights.
     pub fn beam_model(&self, direction: Direction, x_contact_m: f64) -> Result<BeamModel> {
         if !(x_contact_m > 0.0 && x_contact_m < self.length_m) {
             return Err(Error::input(
@@ -307,17 +307,42 @@ impl Track {
             ));
         }
         let (x, contact_node) = self.nodes(x_contact_m);
-        let rail = &self.rail;
-        let g = rail.material.shear_modulus_pa();
-        // Dofs per rail node: longitudinal u; vertical (w, theta); lateral (v, psi, phi, phi').
-        let per_node = match direction {
-            Direction::Longitudinal => 1,
-            Direction::Vertical => 2,
-            Direction::Lateral => 4,
-        };
+        let per_node = dofs_per_node(direction);
+        let pad_nodes = self.pad_nodes(&x);
+        let dofs = DofNumbering::new(direction, x.len(), per_node, &pad_nodes);
+        let fixed = dofs.held(direction, per_node);
+        let mut entries: Vec<Entry> = Vec::new();
+        self.element_entries(direction, &x, &dofs.node, &mut entries);
+        self.support_entries(direction, &pad_nodes, &dofs, &mut entries);
+        entries.retain(|&(i, j, ..)| !fixed[i] && !fixed[j]);
+        let (map, free) = renumber(&fixed);
+        for entry in entries.iter_mut() {
+            entry.0 = map[entry.0];
+            entry.1 = map[entry.1];
+        }
+        let bandwidth = entries
+            .iter()
+            .map(|&(i, j, ..)| i.abs_diff(j))
+            .max()
+            .unwrap_or(0);
+        let weights = SectionWeights::new(&self.rail, direction, map[dofs.node[contact_node]]);
+        Ok(BeamModel {
+            dofs: free,
+            entries,
+            bandwidth,
+            contact: weights.contact,
+            centroid: weights.centroid,
+            twist: weights.twist,
+            crown_axial: weights.crown_axial,
+        })
+    }
+
+    /// The rail nodes under each sleeper's pad (within half the pad length of its centre; the
+    /// nearest node when none is), in the sleepers' order.
+    fn pad_nodes(&self, x: &[f64]) -> Vec<Vec<usize>> {
         let sleepers = self.sleepers();
         // Pad footprint nodes of each sleeper.
-        let pad_nodes: Vec<Vec<usize>> = sleepers
+        sleepers
             .iter()
             .map(|&xs| {
                 let mut nodes: Vec<usize> = (0..x.len())
@@ -331,44 +356,20 @@ impl Track {
                 }
                 nodes
             })
-            .collect();
-        // Dof numbering: rail nodes in order, each sleeper's dof (vertical only) right after
-        // the middle node of its pad, so that the band stays narrow.
-        let mut node_dof = vec![usize::MAX; x.len()];
-        let mut sleeper_dof = vec![usize::MAX; sleepers.len()];
-        let mut next = 0usize;
-        for i in 0..x.len() {
-            node_dof[i] = next;
-            next += per_node;
-            if direction == Direction::Vertical {
-                for (s, nodes) in pad_nodes.iter().enumerate() {
-                    if nodes[nodes.len() / 2] == i {
-                        sleeper_dof[s] = next;
-                        next += 1;
-                    }
-                }
-            }
-        }
-        let mut entries: Vec<(usize, usize, f64, f64, f64)> = Vec::new();
-        // Held rail ends: the dof is removed by a flag; entries on it are dropped. The rolling
-        // model holds every node of the rail's end faces along and across the track, which
-        // also holds the section's bending rotations there (u_x = z theta_y = 0 for all z, and
-        // likewise about z), its twist (u_y = -(z - z_S) phi = 0) and its warping
-        // (u_x = omega phi' = 0). Vertically the ends stay free to move.
-        let fixed: Vec<bool> = {
-            let mut f = vec![false; next];
-            for i in [0, x.len() - 1] {
-                let first = if direction == Direction::Vertical {
-                    1
-                } else {
-                    0
-                };
-                for d in first..per_node {
-                    f[node_dof[i] + d] = true;
-                }
-            }
-            f
-        };
+            .collect()
+    }
+
+    /// The elements' stiffness and mass entries along the rail at nodes `x`: Timoshenko beams
+    /// (vertical), lateral-torsional beams (lateral) or bars (longitudinal).
+    fn element_entries(
+        &self,
+        direction: Direction,
+        x: &[f64],
+        node_dof: &[usize],
+        entries: &mut Vec<Entry>,
+    ) {
+        let rail = &self.rail;
+        let g = rail.material.shear_modulus_pa();
         let (rho, e, a) = (
             rail.material.density_kg_per_m3,
             rail.material.youngs_modulus_pa,
@@ -421,6 +422,19 @@ impl Track {
                 }
             }
         }
+    }
+
+    /// The supports' entries, sleeper by sleeper: each pad shared equally by the rail nodes of
+    /// its footprint (vertically to the sleeper mass, in shear to the ground otherwise, and
+    /// laterally also resisting the twist), and vertically the sleeper on the ballast.
+    fn support_entries(
+        &self,
+        direction: Direction,
+        pad_nodes: &[Vec<usize>],
+        dofs: &DofNumbering,
+        entries: &mut Vec<Entry>,
+    ) {
+        let rail = &self.rail;
         let shear = if direction == Direction::Vertical {
             1.0
         } else {
@@ -432,10 +446,10 @@ impl Track {
             let share = 1.0 / nodes.len() as f64;
             let (kp, cp) = (self.pad[0] * shear * share, self.pad[1] * shear * share);
             for &i in nodes {
-                let d = node_dof[i];
+                let d = dofs.node[i];
                 match direction {
                     Direction::Vertical => {
-                        let sd = sleeper_dof[s];
+                        let sd = dofs.sleeper[s];
                         entries.push((d, d, 0.0, cp, kp));
                         entries.push((sd, sd, 0.0, cp, kp));
                         entries.push((d, sd, 0.0, -cp, -kp));
@@ -457,7 +471,7 @@ impl Track {
                 }
             }
             if direction == Direction::Vertical {
-                let sd = sleeper_dof[s];
+                let sd = dofs.sleeper[s];
                 entries.push((
                     sd,
                     sd,
@@ -467,29 +481,130 @@ impl Track {
                 ));
             }
         }
-        entries.retain(|&(i, j, ..)| !fixed[i] && !fixed[j]);
-        // Renumber without the held dofs.
-        let mut map = vec![usize::MAX; next];
-        let mut free = 0;
-        for d in 0..next {
-            if !fixed[d] {
-                map[d] = free;
-                free += 1;
+    }
+
+    /// Point receptance (m/N) in `direction` at `x_contact_m` for each frequency (Hz), by direct
+    /// solves.
+    pub fn receptance(
+        &self,
+        direction: Direction,
+        x_contact_m: f64,
+        frequencies_hz: &[f64],
+    ) -> Result<Vec<c64>> {
+        let model = self.beam_model(direction, x_contact_m)?;
+        model.receptance(frequencies_hz)
+    }
+}
+
+/// An entry of the assembled matrices: (i, j, m, c, k).
+type Entry = (usize, usize, f64, f64, f64);
+
+/// The number of dofs at each rail node of `direction`'s model.
+fn dofs_per_node(direction: Direction) -> usize {
+    // Dofs per rail node: longitudinal u; vertical (w, theta); lateral (v, psi, phi, phi').
+    match direction {
+        Direction::Longitudinal => 1,
+        Direction::Vertical => 2,
+        Direction::Lateral => 4,
+    }
+}
+
+/// The dof numbering of one direction's model, held dofs included.
+struct DofNumbering {
+    /// First dof of each rail node.
+    node: Vec<usize>,
+    /// The dof of each sleeper (vertical model only; `usize::MAX` otherwise).
+    sleeper: Vec<usize>,
+    /// Dofs in all.
+    count: usize,
+}
+
+impl DofNumbering {
+    /// Numbers `n_nodes` rail nodes of `per_node` dofs in order and, vertically, each sleeper's
+    /// dof right after the middle node of its pad (`pad_nodes`), so that the band stays narrow.
+    fn new(
+        direction: Direction,
+        n_nodes: usize,
+        per_node: usize,
+        pad_nodes: &[Vec<usize>],
+    ) -> Self {
+        // Dof numbering: rail nodes in order, each sleeper's dof (vertical only) right after
+        // the middle node of its pad, so that the band stays narrow.
+        let mut node_dof = vec![usize::MAX; n_nodes];
+        let mut sleeper_dof = vec![usize::MAX; pad_nodes.len()];
+        let mut next = 0usize;
+        for i in 0..n_nodes {
+            node_dof[i] = next;
+            next += per_node;
+            if direction == Direction::Vertical {
+                for (s, nodes) in pad_nodes.iter().enumerate() {
+                    if nodes[nodes.len() / 2] == i {
+                        sleeper_dof[s] = next;
+                        next += 1;
+                    }
+                }
             }
         }
-        for entry in entries.iter_mut() {
-            entry.0 = map[entry.0];
-            entry.1 = map[entry.1];
+        DofNumbering {
+            node: node_dof,
+            sleeper: sleeper_dof,
+            count: next,
         }
-        let bandwidth = entries
-            .iter()
-            .map(|&(i, j, ..)| i.abs_diff(j))
-            .max()
-            .unwrap_or(0);
+    }
+
+    /// The held dofs (true) at the rail ends.
+    fn held(&self, direction: Direction, per_node: usize) -> Vec<bool> {
+        let n_nodes = self.node.len();
+        // Held rail ends: the dof is removed by a flag; entries on it are dropped. The rolling
+        // model holds every node of the rail's end faces along and across the track, which
+        // also holds the section's bending rotations there (u_x = z theta_y = 0 for all z, and
+        // likewise about z), its twist (u_y = -(z - z_S) phi = 0) and its warping
+        // (u_x = omega phi' = 0). Vertically the ends stay free to move.
+        let mut f = vec![false; self.count];
+        for i in [0, n_nodes - 1] {
+            let first = if direction == Direction::Vertical {
+                1
+            } else {
+                0
+            };
+            for d in first..per_node {
+                f[self.node[i] + d] = true;
+            }
+        }
+        f
+    }
+}
+
+/// The free dofs' numbers without the held ones (`usize::MAX` for a held dof), and their count.
+fn renumber(fixed: &[bool]) -> (Vec<usize>, usize) {
+    // Renumber without the held dofs.
+    let mut map = vec![usize::MAX; fixed.len()];
+    let mut free = 0;
+    for d in 0..fixed.len() {
+        if !fixed[d] {
+            map[d] = free;
+            free += 1;
+        }
+    }
+    (map, free)
+}
+
+/// The weights of the observed points at the contact station, whose (renumbered) first dof
+/// is `c`: see the fields of [`BeamModel`].
+struct SectionWeights {
+    contact: Vec<(usize, f64)>,
+    centroid: Vec<(usize, f64)>,
+    twist: Vec<(usize, f64)>,
+    crown_axial: Vec<(usize, f64)>,
+}
+
+impl SectionWeights {
+    /// The contact (crown), centroid, twist and crown-axial weights of `direction`'s model
+    /// (the lateral ones through the shear centre's deflection and the twist).
+    fn new(rail: &RailSection, direction: Direction, c: usize) -> Self {
         // Where the contact and the centroid sit on the section: the lateral motion at depth
         // h below the crown is v - (z - z_S) phi = v - (d_S - h) phi, d_S the shear centre's
         // depth.
-        let c = map[node_dof[contact_node]];
         let (contact, centroid, twist) = if direction == Direction::Lateral {
             let d_s = rail.shear_centre_below_crown_m;
             (
@@ -505,27 +620,12 @@ impl Track {
         } else {
             Vec::new()
         };
-        Ok(BeamModel {
-            dofs: free,
-            entries,
-            bandwidth,
+        SectionWeights {
             contact,
             centroid,
             twist,
             crown_axial,
-        })
-    }
-
-    /// Point receptance (m/N) in `direction` at `x_contact_m` for each frequency (Hz), by direct
-    /// solves.
-    pub fn receptance(
-        &self,
-        direction: Direction,
-        x_contact_m: f64,
-        frequencies_hz: &[f64],
-    ) -> Result<Vec<c64>> {
-        let model = self.beam_model(direction, x_contact_m)?;
-        model.receptance(frequencies_hz)
+        }
     }
 }
 

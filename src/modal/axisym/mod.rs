@@ -489,8 +489,9 @@ fn rigid_motions(model: &AxisymModel, harmonic: u32) -> Vec<Vec<[f64; 3]>> {
 
 /// Solve one harmonic on a precomputed structure (dof map, count, pattern).
 ///
-/// Kept in one piece: assembly, axis conditions, solve and labelling of one harmonic share the
-/// section's numbering.
+/// The phases share the section's numbering: the assembly of the harmonic's values, the solve
+/// below `fmax_hz` (a free body's rigid motions given as known null vectors), and the
+/// labelling of each mode.
 fn solve_harmonic_with(
     model: &AxisymModel,
     harmonic: u32,
@@ -502,9 +503,36 @@ fn solve_harmonic_with(
     let (kv, mv) = entry_values(model, map, harmonic)?;
     let pencil = eigen::PencilMatrices::from_values(structure.2.clone(), &kv, &mv);
     let assembly_seconds = t0.elapsed().as_secs_f64();
+    let settings = eigen_settings(fmax_hz);
+    let t_eig = Instant::now();
+    let known = known_null_vectors(model, harmonic, map, ndof, &pencil);
+    let res = eigen::solve_below(&pencil, &settings, &known)?;
+    let eigen_seconds = t_eig.elapsed().as_secs_f64();
+    let labels = ModeLabels::new(model, map, ndof, &pencil);
+    let mut modes = Vec::with_capacity(res.values.len());
+    let mut kx = vec![0.0; ndof];
+    let mut mx = vec![0.0; ndof];
+    for (lambda, x) in res.values.iter().zip(&res.vectors) {
+        modes.push(labels.label(harmonic, *lambda, x, &mut kx, &mut mx)?);
+    }
+    let stats = HarmonicStats {
+        harmonic,
+        dofs: ndof,
+        factor_nnz: pencil.factor_nnz(),
+        sturm_count: res.sturm_count,
+        lanczos_steps: res.lanczos_steps,
+        assembly_seconds,
+        eigen_seconds,
+        seconds: t0.elapsed().as_secs_f64(),
+    };
+    Ok((modes, stats))
+}
+
+/// The eigen solve's settings for all modes below `fmax_hz`.
+fn eigen_settings(fmax_hz: f64) -> eigen::EigenSettings {
     let omega_max = std::f64::consts::TAU * fmax_hz;
     let lambda_max = omega_max * omega_max;
-    let settings = eigen::EigenSettings {
+    eigen::EigenSettings {
         lambda_max,
         // Shift at -(0.2 fmax)^2 (in omega^2): below every eigenvalue (K - sigma M positive
         // definite even for a free body) and close enough to the band that its modes are the
@@ -513,9 +541,19 @@ fn solve_harmonic_with(
         // Transformed residual |beta s| <= 1e-12 theta: the accepted pairs then have relative
         // residuals in K, M well below MAX_RELATIVE_RESIDUAL (checked below, not assumed).
         ritz_tolerance: 1e-12,
-    };
-    let t_eig = Instant::now();
-    let known: Vec<Vec<f64>> = if model.clamped.is_empty() {
+    }
+}
+
+/// A free body's rigid motions of this harmonic as vectors of the (permuted) free dofs, the
+/// null vectors the solve is told about; none for a clamped body.
+fn known_null_vectors(
+    model: &AxisymModel,
+    harmonic: u32,
+    map: &DofMap,
+    ndof: usize,
+    pencil: &eigen::PencilMatrices,
+) -> Vec<Vec<f64>> {
+    if model.clamped.is_empty() {
         rigid_motions(model, harmonic)
             .iter()
             .map(|field| {
@@ -535,52 +573,108 @@ fn solve_harmonic_with(
             .collect()
     } else {
         Vec::new()
-    };
-    let res = eigen::solve_below(&pencil, &settings, &known)?;
-    let eigen_seconds = t_eig.elapsed().as_secs_f64();
-    let k_scale = pencil.max_k_diagonal();
-    let n_nodes = model.mesh.node_count();
-    let axle_path_nodes = path_nodes(model, &model.axle_path);
-    let path_nodes = path_nodes(model, &model.radial_path);
-    // Dofs of the nodes that only axle elements hold, in the permuted numbering.
-    let axle_only = axle_only_nodes(model);
-    let in_axle: Vec<bool> = {
-        let mut flag = vec![0.0; ndof];
-        for (i, node) in map.iter().enumerate() {
-            if axle_only[i] {
-                for (g, _) in node.iter().flatten() {
-                    flag[*g] = 1.0;
+    }
+}
+
+/// What labelling a harmonic's modes needs, in the pencil's (permuted) numbering: the residual
+/// scale of rigid modes, the paths' nodes, the axle's dofs and each dof's component.
+struct ModeLabels<'a> {
+    pencil: &'a eigen::PencilMatrices,
+    map: &'a DofMap,
+    ndof: usize,
+    /// The largest diagonal entry of K (the residual scale of a rigid mode).
+    k_scale: f64,
+    n_nodes: usize,
+    /// Nodes along the axle (axle-family nodal circles).
+    axle_path_nodes: Vec<usize>,
+    /// Nodes along the wheel's radial path (nodal circles).
+    wheel_path_nodes: Vec<usize>,
+    /// Per permuted dof: on a node that only axle elements hold.
+    in_axle: Vec<bool>,
+    /// Per permuted dof: its component (0 radial, 1 circumferential, 2 axial).
+    owner_perm: Vec<usize>,
+}
+
+impl<'a> ModeLabels<'a> {
+    /// The labelling data of a harmonic with dof map `map` (`ndof` free dofs) and `pencil`.
+    fn new(
+        model: &AxisymModel,
+        map: &'a DofMap,
+        ndof: usize,
+        pencil: &'a eigen::PencilMatrices,
+    ) -> Self {
+        let k_scale = pencil.max_k_diagonal();
+        let n_nodes = model.mesh.node_count();
+        let axle_path_nodes = path_nodes(model, &model.axle_path);
+        let wheel_path_nodes = path_nodes(model, &model.radial_path);
+        // Dofs of the nodes that only axle elements hold, in the permuted numbering.
+        let axle_only = axle_only_nodes(model);
+        let in_axle: Vec<bool> = {
+            let mut flag = vec![0.0; ndof];
+            for (i, node) in map.iter().enumerate() {
+                if axle_only[i] {
+                    for (g, _) in node.iter().flatten() {
+                        flag[*g] = 1.0;
+                    }
+                }
+            }
+            pencil.permute(&flag).iter().map(|&f| f > 0.5).collect()
+        };
+        // Kinetic energy shares: x^T M x split by component (M couples only like components).
+        // A dof shared by U_r and U_t (n = 1 axis node) counts as radial.
+        let mut owner = vec![usize::MAX; ndof];
+        for node in map.iter() {
+            for (c, d) in node.iter().enumerate() {
+                if let Some((g, _)) = d {
+                    if owner[*g] == usize::MAX {
+                        owner[*g] = c;
+                    }
                 }
             }
         }
-        pencil.permute(&flag).iter().map(|&f| f > 0.5).collect()
-    };
-    // Kinetic energy shares: x^T M x split by component (M couples only like components).
-    // A dof shared by U_r and U_t (n = 1 axis node) counts as radial.
-    let mut owner = vec![usize::MAX; ndof];
-    for node in map.iter() {
-        for (c, d) in node.iter().enumerate() {
-            if let Some((g, _)) = d {
-                if owner[*g] == usize::MAX {
-                    owner[*g] = c;
-                }
-            }
+        let owner_perm: Vec<usize> = {
+            let as_f: Vec<f64> = owner.iter().map(|&c| c as f64).collect();
+            pencil.permute(&as_f).iter().map(|&c| c as usize).collect()
+        };
+        ModeLabels {
+            pencil,
+            map,
+            ndof,
+            k_scale,
+            n_nodes,
+            axle_path_nodes,
+            wheel_path_nodes,
+            in_axle,
+            owner_perm,
         }
     }
-    let owner_perm: Vec<usize> = {
-        let as_f: Vec<f64> = owner.iter().map(|&c| c as f64).collect();
-        pencil.permute(&as_f).iter().map(|&c| c as usize).collect()
-    };
-    let mut modes = Vec::with_capacity(res.values.len());
-    let mut kx = vec![0.0; ndof];
-    let mut mx = vec![0.0; ndof];
-    for (lambda, x) in res.values.iter().zip(&res.vectors) {
-        pencil.k_mul(x, &mut kx);
-        pencil.m_mul(x, &mut mx);
-        let r: Vec<f64> = kx.iter().zip(&mx).map(|(k, m)| k - lambda * m).collect();
+
+    /// The labelled mode of eigenpair (`lambda`, `x`) of `harmonic`: its residual (refused
+    /// above [`MAX_RELATIVE_RESIDUAL`]), shape, energy shares, family and nodal circles. `kx`
+    /// and `mx` are scratch vectors of the dof count, reused from mode to mode.
+    fn label(
+        &self,
+        harmonic: u32,
+        lambda: f64,
+        x: &[f64],
+        kx: &mut [f64],
+        mx: &mut [f64],
+    ) -> Result<AxisymMode> {
+        let (pencil, map, ndof) = (self.pencil, self.map, self.ndof);
+        pencil.k_mul(x, kx);
+        pencil.m_mul(x, mx);
+        let r: Vec<f64> = kx
+            .iter()
+            .zip(mx.iter())
+            .map(|(k, m)| k - lambda * m)
+            .collect();
         let freq = lambda.max(0.0).sqrt() / std::f64::consts::TAU;
         let rigid = freq < RIGID_LIMIT_HZ;
-        let denom = if rigid { k_scale * norm(x) } else { norm(&kx) };
+        let denom = if rigid {
+            self.k_scale * norm(x)
+        } else {
+            norm(kx)
+        };
         let residual = norm(&r) / denom.max(f64::MIN_POSITIVE);
         if residual > MAX_RELATIVE_RESIDUAL {
             return Err(Error::Numerical(format!(
@@ -589,10 +683,10 @@ fn solve_harmonic_with(
             )));
         }
         let xo = pencil.unpermute(x);
-        let shape: Vec<[f64; 3]> = (0..n_nodes)
+        let shape: Vec<[f64; 3]> = (0..self.n_nodes)
             .map(|i| std::array::from_fn(|c| map[i][c].map_or(0.0, |(g, s)| s * xo[g])))
             .collect();
-        let mut share = pencil.component_energies(x, &owner_perm);
+        let mut share = pencil.component_energies(x, &self.owner_perm);
         let total: f64 = share.iter().sum::<f64>().max(f64::MIN_POSITIVE);
         share.iter_mut().for_each(|s| *s /= total);
         // x^T M x split over dofs as x_j (M x)_j: the parts sum to the total exactly.
@@ -600,51 +694,14 @@ fn solve_harmonic_with(
         for j in 0..ndof {
             let e = x[j] * mx[j];
             all_e += e;
-            if in_axle[j] {
+            if self.in_axle[j] {
                 axle_e += e;
             }
         }
         let axle_energy_share = if all_e > 0.0 { axle_e / all_e } else { 0.0 };
-        let family = if rigid {
-            ModeFamily::Rigid
-        } else if axle_energy_share >= AXLE_FAMILY_SHARE {
-            ModeFamily::Axle
-        } else if share[2] >= share[0] && share[2] >= share[1] {
-            ModeFamily::Axial
-        } else if share[0] >= share[1] {
-            ModeFamily::Radial
-        } else {
-            ModeFamily::Circumferential
-        };
-        // The axle's dominant component along the axle, from end to end through the hub.
-        let mut e = [0.0f64; 3];
-        for &i in &axle_path_nodes {
-            for (c, ec) in e.iter_mut().enumerate() {
-                *ec += shape[i][c] * shape[i][c];
-            }
-        }
-        let axle_comp = (0..3).fold(0, |best, c| if e[c] > e[best] { c } else { best });
-        let axle_samples: Vec<f64> = axle_path_nodes
-            .iter()
-            .map(|&i| shape[i][axle_comp])
-            .collect();
-        let comp = match family {
-            ModeFamily::Radial => 0,
-            ModeFamily::Circumferential => 1,
-            _ => 2,
-        };
-        let wheel_samples: Vec<f64> = path_nodes.iter().map(|&i| shape[i][comp]).collect();
-        let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let nodal_circles = if family == ModeFamily::Axle {
-            sign_changes(&axle_samples)
-        } else {
-            // Circles on the wheel, plus those along the axle where it moves at least 5 % as
-            // much as the wheel does.
-            let scale = peak(&wheel_samples).max(peak(&axle_samples));
-            sign_changes_above(&wheel_samples, NODAL_SIGN_THRESHOLD * scale)
-                + sign_changes_above(&axle_samples, NODAL_SIGN_THRESHOLD * scale)
-        };
-        modes.push(AxisymMode {
+        let family = mode_family(rigid, axle_energy_share, &share);
+        let nodal_circles = self.nodal_circles(family, &shape);
+        Ok(AxisymMode {
             frequency_hz: freq,
             family,
             nodal_circles,
@@ -655,19 +712,64 @@ fn solve_harmonic_with(
             energy_share: share,
             axle_energy_share,
             shape,
-        });
+        })
     }
-    let stats = HarmonicStats {
-        harmonic,
-        dofs: ndof,
-        factor_nnz: pencil.factor_nnz(),
-        sturm_count: res.sturm_count,
-        lanczos_steps: res.lanczos_steps,
-        assembly_seconds,
-        eigen_seconds,
-        seconds: t0.elapsed().as_secs_f64(),
-    };
-    Ok((modes, stats))
+
+    /// Nodal circles of a mode of `family` with nodal `shape`: sign changes along the axle for
+    /// the axle family; otherwise on the wheel's radial path, plus those along the axle where
+    /// it moves enough.
+    fn nodal_circles(&self, family: ModeFamily, shape: &[[f64; 3]]) -> u32 {
+        // The axle's dominant component along the axle, from end to end through the hub.
+        let mut e = [0.0f64; 3];
+        for &i in &self.axle_path_nodes {
+            for (c, ec) in e.iter_mut().enumerate() {
+                *ec += shape[i][c] * shape[i][c];
+            }
+        }
+        let axle_comp = (0..3).fold(0, |best, c| if e[c] > e[best] { c } else { best });
+        let axle_samples: Vec<f64> = self
+            .axle_path_nodes
+            .iter()
+            .map(|&i| shape[i][axle_comp])
+            .collect();
+        let comp = match family {
+            ModeFamily::Radial => 0,
+            ModeFamily::Circumferential => 1,
+            _ => 2,
+        };
+        let wheel_samples: Vec<f64> = self
+            .wheel_path_nodes
+            .iter()
+            .map(|&i| shape[i][comp])
+            .collect();
+        let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        if family == ModeFamily::Axle {
+            sign_changes(&axle_samples)
+        } else {
+            // Circles on the wheel, plus those along the axle where it moves at least 5 % as
+            // much as the wheel does.
+            let scale = peak(&wheel_samples).max(peak(&axle_samples));
+            sign_changes_above(&wheel_samples, NODAL_SIGN_THRESHOLD * scale)
+                + sign_changes_above(&axle_samples, NODAL_SIGN_THRESHOLD * scale)
+        }
+    }
+}
+
+/// The family of a mode: rigid below [`RIGID_LIMIT_HZ`], axle from [`AXLE_FAMILY_SHARE`] of
+/// its kinetic energy in the axle, else the component with the largest energy `share`
+/// (radial, circumferential, axial).
+fn mode_family(rigid: bool, axle_energy_share: f64, share: &[f64; 3]) -> ModeFamily {
+    if rigid {
+        ModeFamily::Rigid
+    } else if axle_energy_share >= AXLE_FAMILY_SHARE {
+        ModeFamily::Axle
+    } else if share[2] >= share[0] && share[2] >= share[1] {
+        ModeFamily::Axial
+    } else if share[0] >= share[1] {
+        ModeFamily::Radial
+    } else {
+        ModeFamily::Circumferential
+    }
 }
 
 /// Nodes that only axle elements hold (the hub-axle interface belongs to the wheel).
