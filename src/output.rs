@@ -37,6 +37,115 @@ pub fn check_plain_name(field: &str, name: &str) -> Result<()> {
     Ok(())
 }
 
+/// The file that marks a folder squeal made and may replace whole (a run directory, a report,
+/// an EMA result): `--overwrite` and a report's replacement touch no other folder.
+pub const OUTPUT_MARKER: &str = ".squeal-output";
+
+/// Files by which a folder written by an earlier release (before [`OUTPUT_MARKER`]) is known as
+/// squeal's: a run directory's record, a report's summary, an EMA's modes.
+const EARLIER_OUTPUT_FILES: [&str; 3] = ["run.json", "report.json", "modes.uff"];
+
+/// Checks that the folder `dir` may be deleted and written again whole: it is no folder a
+/// user needs (`/`, the home folder, the current folder or one above it), and squeal made it
+/// ([`OUTPUT_MARKER`], or a run, report or EMA of an earlier release). `field` names the
+/// option that asked for the replacement.
+pub fn check_replaceable(dir: &Path, field: &str) -> Result<()> {
+    let shown = dir.display().to_string();
+    let refuse = |why: &str| Error::input(&shown, field, why.to_string());
+    let Ok(target) = dir.canonicalize() else {
+        return Ok(()); // nothing there to lose
+    };
+    let home = std::env::var_os("HOME").and_then(|h| PathBuf::from(h).canonicalize().ok());
+    let cwd = std::env::current_dir().and_then(|c| c.canonicalize()).ok();
+    if target.parent().is_none() || home.as_ref() == Some(&target) {
+        return Err(refuse(
+            "is the root or the home folder: refusing to replace it; give a folder of its own",
+        ));
+    }
+    if cwd.as_ref().is_some_and(|c| c.starts_with(&target)) {
+        return Err(refuse(
+            "is the current folder or contains it: refusing to replace it; give a folder of its \
+             own (e.g. out/case3)",
+        ));
+    }
+    if !target.is_dir() {
+        return Err(refuse("is a file, not a folder: expected an output folder"));
+    }
+    let made_by_squeal = target.join(OUTPUT_MARKER).exists()
+        || EARLIER_OUTPUT_FILES.iter().any(|f| target.join(f).exists());
+    if has_entries(&target) && !made_by_squeal {
+        return Err(refuse(
+            "holds files squeal did not write (no run, report or EMA result): refusing to \
+             replace them; give a new or empty folder",
+        ));
+    }
+    Ok(())
+}
+
+/// Writes [`OUTPUT_MARKER`] into `dir`.
+pub fn mark_output(dir: &Path) -> Result<()> {
+    let path = dir.join(OUTPUT_MARKER);
+    std::fs::write(
+        &path,
+        "A folder squeal wrote: `--overwrite` and a new report may replace it whole.\n",
+    )
+    .map_err(|e| Error::io(&path, e))
+}
+
+/// An earlier output folder set aside while its replacement is made: renamed to a hidden
+/// sibling (`.NAME.replaced-PID`) and an empty folder made in its place. [`SetAside::discard`]
+/// deletes the old one once the new one holds a result; dropped before that (the new run
+/// failed or was stopped before it wrote anything of its own), the new folder is removed and
+/// the old one renamed back, as it was.
+#[derive(Debug)]
+pub struct SetAside {
+    dir: PathBuf,
+    aside: PathBuf,
+    done: bool,
+}
+
+impl SetAside {
+    /// Sets `dir` aside (after [`check_replaceable`]) and makes it again, empty.
+    pub fn new(dir: &Path, field: &str) -> Result<SetAside> {
+        check_replaceable(dir, field)?;
+        let name = dir
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_else(|| "output".to_string());
+        let parent = match dir.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let aside = parent.join(format!(".{name}.replaced-{}", std::process::id()));
+        if aside.exists() {
+            std::fs::remove_dir_all(&aside).map_err(|e| Error::io(&aside, e))?;
+        }
+        std::fs::rename(dir, &aside).map_err(|e| Error::io(dir, e))?;
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        Ok(SetAside {
+            dir: dir.to_path_buf(),
+            aside,
+            done: false,
+        })
+    }
+
+    /// The replacement holds a result: the old folder goes.
+    pub fn discard(mut self) -> Result<()> {
+        self.done = true;
+        std::fs::remove_dir_all(&self.aside).map_err(|e| Error::io(&self.aside, e))
+    }
+}
+
+impl Drop for SetAside {
+    fn drop(&mut self) {
+        if !self.done {
+            // Best effort, on the way out of an error: the error itself is reported.
+            let _ = std::fs::remove_dir_all(&self.dir);
+            let _ = std::fs::rename(&self.aside, &self.dir);
+        }
+    }
+}
+
 /// Whether a folder holds anything.
 pub fn has_entries(dir: &Path) -> bool {
     std::fs::read_dir(dir).is_ok_and(|mut entries| entries.next().is_some())
@@ -97,6 +206,11 @@ impl StagedDir {
     /// Moves the result into place (renames within one file system).
     pub fn commit(mut self, how: Commit) -> Result<PathBuf> {
         let target = self.target.clone();
+        if how == Commit::Replace {
+            // Only a folder squeal made is replaced whole; the new one is marked as such.
+            check_replaceable(&target, "--out")?;
+            mark_output(&self.staging)?;
+        }
         if how == Commit::Replace || !target.exists() {
             if target.exists() {
                 std::fs::remove_dir_all(&target).map_err(|e| Error::io(&target, e))?;
@@ -330,11 +444,18 @@ mod tests {
             std::fs::read_to_string(target.join("keep.txt")).unwrap(),
             "old"
         );
-        // Replace drops the old files.
+        // Replace refuses a folder squeal did not make, and leaves it as it was.
+        let stage = StagedDir::new(&target).unwrap();
+        std::fs::write(stage.path().join("b.txt"), "b").unwrap();
+        assert!(stage.commit(Commit::Replace).is_err());
+        assert!(target.join("keep.txt").exists() && !target.join("b.txt").exists());
+        // A folder squeal made: Replace drops the old files and marks the new folder.
+        mark_output(&target).unwrap();
         let stage = StagedDir::new(&target).unwrap();
         std::fs::write(stage.path().join("b.txt"), "b").unwrap();
         stage.commit(Commit::Replace).unwrap();
         assert!(!target.join("keep.txt").exists() && target.join("b.txt").exists());
+        assert!(target.join(OUTPUT_MARKER).exists());
         let names: Vec<_> = std::fs::read_dir(&root).unwrap().collect();
         assert_eq!(names.len(), 1, "only the output folder remains");
         // A staged file: a failing writer leaves the old file as it was and no stage.

@@ -245,7 +245,8 @@ fn sigterm_stops_with_a_checkpoint_and_resume_goes_on() {
     // A resume whose outputs were lost is refused, naming the file, and leaves the folder as
     // it was: histories.csv deleted, contact_forces.csv cut to its first half.
     let end_ms = stopped_at_s * 1e3 + 0.2;
-    let damage: [(&str, fn(&Path)); 2] = [
+    type Spoil = fn(&Path);
+    let damage: [(&str, Spoil); 2] = [
         ("histories.csv", |p| std::fs::remove_file(p).unwrap()),
         ("contact_forces.csv", |p| {
             let text = std::fs::read_to_string(p).unwrap();
@@ -518,7 +519,9 @@ fn runs_and_reports_are_never_overwritten_or_misplaced() {
     let dir = temp_dir("safety");
     let run = dir.join("run");
     std::fs::create_dir_all(&run).unwrap();
+    // An earlier run (its record and modes), which --overwrite may replace.
     std::fs::write(run.join("modes.json"), "[]").unwrap();
+    std::fs::write(run.join("run.json"), "{}").unwrap();
     let simulate = |extra: &[&str]| {
         squeal()
             .args([
@@ -543,7 +546,7 @@ fn runs_and_reports_are_never_overwritten_or_misplaced() {
         "{err}"
     );
     let names: Vec<_> = std::fs::read_dir(&run).unwrap().collect();
-    assert_eq!(names.len(), 1, "the refused run wrote into the folder");
+    assert_eq!(names.len(), 2, "the refused run wrote into the folder");
     let replaced = simulate(&["--overwrite"]);
     assert!(
         replaced.status.success(),

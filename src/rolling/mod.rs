@@ -144,9 +144,11 @@ pub struct RunRecord {
 pub const LIFT_OFF_LIMIT_S: f64 = 0.002;
 
 /// The run directory before a run: for `--resume` it must hold a checkpoint; otherwise it
-/// must be new or empty, or `overwrite` clears it. Checked before anything is written, so a
-/// refused run leaves the folder as it was.
-fn prepare_run_directory(opts: &SimulateOptions) -> Result<()> {
+/// must be new or empty, or with `overwrite` a folder squeal made, which is set aside
+/// ([`crate::output::SetAside`]) until the new run has started writing, and restored if it
+/// fails before. Checked before anything is written, so a refused run leaves the folder as it
+/// was. The folder is marked as squeal's ([`crate::output::OUTPUT_MARKER`]).
+fn prepare_run_directory(opts: &SimulateOptions) -> Result<Option<crate::output::SetAside>> {
     let dir = &opts.out_dir;
     let shown = dir.display().to_string();
     if opts.resume {
@@ -161,8 +163,9 @@ fn prepare_run_directory(opts: &SimulateOptions) -> Result<()> {
                 ),
             ));
         }
-        return Ok(());
+        return Ok(None);
     }
+    let mut aside = None;
     if crate::output::has_entries(dir) {
         if !opts.overwrite {
             return Err(Error::input(
@@ -172,9 +175,11 @@ fn prepare_run_directory(opts: &SimulateOptions) -> Result<()> {
                  --resume to continue its run, or a new or empty folder",
             ));
         }
-        std::fs::remove_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        aside = Some(crate::output::SetAside::new(dir, "--overwrite")?);
     }
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    crate::output::mark_output(dir)?;
+    Ok(aside)
 }
 
 /// Runs one case into `opts.out_dir`.
@@ -187,7 +192,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
     // A run still writing into the folder (a resume started beside it) keeps it: checked
     // before an `--overwrite` could clear it, and held from here to the end of this run.
     crate::output::FolderLock::refuse_if_held(&opts.out_dir)?;
-    prepare_run_directory(opts)?;
+    let replaced = prepare_run_directory(opts)?;
     let _claim = crate::output::FolderLock::acquire(&opts.out_dir)?;
     // The modes that label the run's peaks, before its minutes or hours of stepping.
     wheel_modes::write_run_wheel_modes(&loaded.scenario.wheel, &opts.out_dir, opts.resume)?;
@@ -212,6 +217,11 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
     // After the preload and the prescribed motions, so that their nodes stay fine.
     let choice = stepping::choose_stepping(&m, &case.time_stepping, opts.multi_rate, &source)?;
     stepping::apply_stepping(&mut m, &choice)?;
+    // The new run is built, preloaded and about to write its own record: the run it replaces
+    // goes now (until here, any failure put it back).
+    if let Some(old) = replaced {
+        old.discard()?;
+    }
     m.contact.resuming = opts.resume;
     // The invariants are the rolling run's: the frictionless preload's steps are left out.
     m.contact.pair.reset_monitors();

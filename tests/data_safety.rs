@@ -1,0 +1,183 @@
+//! A user's files survive byte for byte whatever a command is asked to do with them (issue 53):
+//! an `--overwrite` whose new run fails before it starts writing, an `--overwrite` of the
+//! current folder or of a folder squeal did not make, a report asked to replace a folder that
+//! is not a report. Each scenario runs the release binary in a fresh folder and compares every
+//! file afterwards with what was there before.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn squeal(cwd: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("run squeal")
+}
+
+fn fresh(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("squeal_safety_{tag}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Every file below `dir` (relative path -> bytes).
+fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut files = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                let rel = path.strip_prefix(dir).unwrap().to_path_buf();
+                files.insert(rel, std::fs::read(&path).unwrap());
+            }
+        }
+    }
+    files
+}
+
+fn repo(path: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(path)
+        .display()
+        .to_string()
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Item 1: the old run stays when the new one fails before it starts writing (here its model
+/// puts the wheel 5 mm above the rail: the contact check refuses it before the preload).
+#[test]
+fn a_failed_overwrite_keeps_the_old_run() {
+    let dir = fresh("overwrite_fails");
+    let case = repo("data/cases/case3-ci.json");
+    let first = squeal(
+        &dir,
+        &[
+            "simulate",
+            "--quiet",
+            "--case",
+            &case,
+            "--end-time-ms",
+            "0.1",
+            "--out",
+            "run",
+        ],
+    );
+    assert!(first.status.success(), "{}", stderr(&first));
+    let before = snapshot(&dir.join("run"));
+    // The same case on a copy of its model with the wheel lifted by 5 mm.
+    let mut model: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(repo("data/models/ci-tiny.json")).unwrap())
+            .unwrap();
+    model["wheel_file"] = repo("data/wheels/ns_intercity_920.json").into();
+    model["wheel_position"]["initial_gap_mm"] = 5.0.into();
+    let lifted_model = dir.join("lifted-model.json");
+    std::fs::write(&lifted_model, model.to_string()).unwrap();
+    let mut lifted: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&case).unwrap()).unwrap();
+    lifted["model_scenario"] = lifted_model.display().to_string().into();
+    let lifted_case = dir.join("lifted-case.json");
+    std::fs::write(&lifted_case, lifted.to_string()).unwrap();
+    let failed = squeal(
+        &dir,
+        &[
+            "simulate",
+            "--quiet",
+            "--overwrite",
+            "--case",
+            lifted_case.to_str().unwrap(),
+            "--out",
+            "run",
+        ],
+    );
+    assert_ne!(failed.status.code(), Some(0), "the lifted wheel ran");
+    assert_eq!(snapshot(&dir.join("run")), before, "{}", stderr(&failed));
+    // Nothing left beside it: no set-aside or staging folder.
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(
+        names.iter().all(|n| !n.starts_with('.')),
+        "left behind: {names:?}"
+    );
+    // A new run that works does replace it.
+    let second = squeal(
+        &dir,
+        &[
+            "simulate",
+            "--quiet",
+            "--overwrite",
+            "--case",
+            &case,
+            "--end-time-ms",
+            "0.05",
+            "--out",
+            "run",
+        ],
+    );
+    assert!(second.status.success(), "{}", stderr(&second));
+    assert_ne!(snapshot(&dir.join("run")), before);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Items 2 and 3: `--overwrite` never deletes the current folder, a folder above it, or a
+/// folder of files squeal did not write.
+#[test]
+fn overwrite_refuses_folders_squeal_did_not_make() {
+    let dir = fresh("overwrite_refused");
+    let work = dir.join("work");
+    std::fs::create_dir_all(work.join("notes")).unwrap();
+    std::fs::write(work.join("thesis.tex"), "chapter 1").unwrap();
+    std::fs::write(work.join("notes/data.csv"), "time_s,x\n0,1\n").unwrap();
+    let before = snapshot(&dir);
+    let case = repo("data/cases/case3-ci.json");
+    for out in [".", "..", "../work", "notes"] {
+        let refused = squeal(
+            &work,
+            &[
+                "simulate",
+                "--quiet",
+                "--overwrite",
+                "--case",
+                &case,
+                "--out",
+                out,
+            ],
+        );
+        let err = stderr(&refused);
+        assert_eq!(refused.status.code(), Some(2), "--out {out}: {err}");
+        assert!(err.contains("refusing"), "--out {out}: {err}");
+        assert_eq!(snapshot(&dir), before, "--out {out} changed files");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Item 4: a report replaces a report folder, never a folder of other files.
+#[test]
+fn a_report_never_replaces_a_folder_that_is_not_a_report() {
+    let dir = fresh("report_refused");
+    std::fs::create_dir_all(dir.join("data")).unwrap();
+    std::fs::write(dir.join("data/measurements.csv"), "a,b\n1,2\n").unwrap();
+    let before = snapshot(&dir);
+    let run = repo("data/runs/case3-paper-calibrated");
+    let refused = squeal(&dir, &["report", &run, "--out", "data"]);
+    let err = stderr(&refused);
+    assert_eq!(refused.status.code(), Some(2), "{err}");
+    assert!(err.contains("refusing"), "{err}");
+    assert_eq!(snapshot(&dir), before);
+    // A report folder is replaced by the next report.
+    let first = squeal(&dir, &["report", &run, "--out", "r"]);
+    assert!(first.status.success(), "{}", stderr(&first));
+    let again = squeal(&dir, &["report", &run, "--out", "r"]);
+    assert!(again.status.success(), "{}", stderr(&again));
+    let _ = std::fs::remove_dir_all(&dir);
+}
