@@ -37,6 +37,95 @@ pub fn check_plain_name(field: &str, name: &str) -> Result<()> {
     Ok(())
 }
 
+/// The files and folders the running command reads ([`protect_inputs`]), canonical: no
+/// output of the command may be written over one of them or replace a folder holding one.
+static PROTECTED_INPUTS: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// Declares the paths the command reads (files or folders; those that do not exist are
+/// ignored): every output written through this module is checked against them, so that a
+/// mistaken `--out` (the input CSV, the run directory a report reads) is refused instead of
+/// destroying the input.
+pub fn protect_inputs<P: AsRef<Path>>(paths: impl IntoIterator<Item = P>) {
+    let mut held = PROTECTED_INPUTS.lock().unwrap_or_else(|e| e.into_inner());
+    for p in paths {
+        if let Ok(c) = p.as_ref().canonicalize() {
+            if !held.contains(&c) {
+                held.push(c);
+            }
+        }
+    }
+}
+
+/// The canonical form of a path that may not exist yet: its parent's canonical path and its
+/// name (the parent may not exist either: then the path as given).
+fn canonical_target(path: &Path) -> PathBuf {
+    if let Ok(c) = path.canonicalize() {
+        return c;
+    }
+    match (path.parent(), path.file_name()) {
+        (Some(parent), Some(name)) => {
+            let parent = if parent.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                parent
+            };
+            parent
+                .canonicalize()
+                .map(|p| p.join(name))
+                .unwrap_or_else(|_| path.to_path_buf())
+        }
+        _ => path.to_path_buf(),
+    }
+}
+
+/// Refuses to write the file `path` when it is one of the command's inputs.
+pub fn check_not_an_input(path: &Path) -> Result<()> {
+    let target = canonical_target(path);
+    let held = PROTECTED_INPUTS.lock().unwrap_or_else(|e| e.into_inner());
+    if held.iter().any(|p| *p == target) {
+        return Err(Error::input(
+            path.display().to_string(),
+            "--out",
+            "is an input of this command: refusing to write over it; expected another output \
+             path",
+        ));
+    }
+    Ok(())
+}
+
+/// Checks an output folder's path before anything is written: it may be new or a folder, but
+/// not a file (an input file given as the output folder is named as such). An input folder (a
+/// run directory) may take outputs beside its files, which a commit checks one by one.
+pub fn check_folder_target(dir: &Path) -> Result<()> {
+    if dir.is_file() {
+        check_not_an_input(dir)?;
+        return Err(Error::input(
+            dir.display().to_string(),
+            "--out",
+            "is a file: expected an output folder (new, or one that exists)",
+        ));
+    }
+    Ok(())
+}
+
+/// Refuses to replace the folder `dir` whole when it is, or holds, one of the command's inputs.
+fn check_holds_no_input(dir: &Path) -> Result<()> {
+    let target = canonical_target(dir);
+    let held = PROTECTED_INPUTS.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(input) = held.iter().find(|p| p.starts_with(&target)) {
+        return Err(Error::input(
+            dir.display().to_string(),
+            "--out",
+            format!(
+                "holds {}, an input of this command: refusing to replace it; expected another \
+                 output folder",
+                input.display()
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// The file that marks a folder squeal made and may replace whole (a run directory, a report,
 /// an EMA result): `--overwrite` and a report's replacement touch no other folder.
 pub const OUTPUT_MARKER: &str = ".squeal-output";
@@ -50,6 +139,7 @@ const EARLIER_OUTPUT_FILES: [&str; 3] = ["run.json", "report.json", "modes.uff"]
 /// ([`OUTPUT_MARKER`], or a run, report or EMA of an earlier release). `field` names the
 /// option that asked for the replacement.
 pub fn check_replaceable(dir: &Path, field: &str) -> Result<()> {
+    check_holds_no_input(dir)?;
     let shown = dir.display().to_string();
     let refuse = |why: &str| Error::input(&shown, field, why.to_string());
     let Ok(target) = dir.canonicalize() else {
@@ -172,6 +262,7 @@ pub struct StagedDir {
 impl StagedDir {
     /// Creates the stage for `target` (its parent folders too).
     pub fn new(target: &Path) -> Result<StagedDir> {
+        check_folder_target(target)?;
         let name = target
             .file_name()
             .map(|n| n.to_string_lossy().to_string())
@@ -219,13 +310,19 @@ impl StagedDir {
         } else {
             let entries =
                 std::fs::read_dir(&self.staging).map_err(|e| Error::io(&self.staging, e))?;
+            let mut moves = Vec::new();
             for entry in entries {
                 let entry = entry.map_err(|e| Error::io(&self.staging, e))?;
                 let to = target.join(entry.file_name());
+                // Every file checked before any is moved: a refused merge changes nothing.
+                check_not_an_input(&to)?;
+                moves.push((entry.path(), to));
+            }
+            for (from, to) in moves {
                 if to.is_dir() {
                     std::fs::remove_dir_all(&to).map_err(|e| Error::io(&to, e))?;
                 }
-                std::fs::rename(entry.path(), &to).map_err(|e| Error::io(&to, e))?;
+                std::fs::rename(from, &to).map_err(|e| Error::io(&to, e))?;
             }
             std::fs::remove_dir(&self.staging).map_err(|e| Error::io(&self.staging, e))?;
         }
@@ -248,6 +345,7 @@ impl Drop for StagedDir {
 /// when `write` succeeds and removed when it fails: a failed write leaves no partial file and
 /// does not touch an existing one.
 pub fn write_file_staged<T>(path: &Path, write: impl FnOnce(&Path) -> Result<T>) -> Result<T> {
+    check_not_an_input(path)?;
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().to_string())

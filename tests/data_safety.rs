@@ -181,3 +181,45 @@ fn a_report_never_replaces_a_folder_that_is_not_a_report() {
     assert!(again.status.success(), "{}", stderr(&again));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Item 5: no command writes over its own input: a CSV given as the output of `wav` (both
+/// spellings) and `psd`, a run directory given as the folder a report replaces.
+#[test]
+fn no_output_is_written_over_an_input() {
+    let dir = fresh("input_as_output");
+    let source = repo("data/runs/case3-paper-calibrated/histories.csv");
+    std::fs::copy(&source, dir.join("h.csv")).unwrap();
+    let run = dir.join("run");
+    std::fs::create_dir_all(&run).unwrap();
+    for f in ["histories.csv", "modes.json", "run.json"] {
+        std::fs::copy(
+            repo(&format!("data/runs/case3-paper-calibrated/{f}")),
+            run.join(f),
+        )
+        .unwrap();
+    }
+    let before = snapshot(&dir);
+    let column = "lateral_velocity_m_per_s";
+    for args in [
+        vec!["wav", "h.csv", "--column", column, "--out", "h.csv"],
+        vec![
+            "wav", "--csv", "h.csv", "--column", column, "--out", "h.csv",
+        ],
+        vec!["psd", "h.csv", "--column", column, "--out", "h.csv"],
+        vec!["report", "run", "--out", "run"],
+    ] {
+        let refused = squeal(&dir, &args);
+        let err = stderr(&refused);
+        assert_eq!(refused.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains("an input of this command"), "{args:?}: {err}");
+        assert_eq!(snapshot(&dir), before, "{args:?} changed files");
+    }
+    // Outputs beside a run's files are fine: identify writes its tables into the run.
+    let beside = squeal(&dir, &["identify", "run", "--out", "run"]);
+    assert!(beside.status.success(), "{}", stderr(&beside));
+    assert_eq!(
+        std::fs::read(run.join("histories.csv")).unwrap(),
+        before[Path::new("run/histories.csv")]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -117,6 +117,7 @@ pub fn parse_harmonics(text: &str) -> Result<Vec<u32>> {
 
 /// Run `squeal axisym`.
 pub fn run(args: AxisymArgs) -> Result<()> {
+    squeal::output::protect_inputs(std::iter::once(&args.wheel).chain(&args.hammer));
     let harmonics = parse_harmonics(&args.harmonics)?;
     if !(args.fmax_hz.is_finite() && args.fmax_hz > 0.0 && args.fmax_hz <= 1e6) {
         return Err(Error::input(

@@ -52,6 +52,7 @@ pub struct EmaArgs {
 
 /// Runs `squeal ema`.
 pub fn run(args: EmaArgs) -> Result<()> {
+    squeal::output::protect_inputs([&args.uff]);
     let name = args.uff.display().to_string();
     let file = uff::read_uff(&args.uff)?;
     let set = FrfSet::from_uff(&file, &name)?;

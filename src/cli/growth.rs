@@ -49,6 +49,7 @@ fn default_mode_labels() -> Vec<String> {
 
 /// Run `squeal growth`.
 pub fn run(args: GrowthArgs) -> Result<()> {
+    squeal::output::protect_inputs([&args.run_dir]);
     if !(args.half_width > 0.0 && args.half_width < 0.5) {
         return Err(Error::input(
             "command line",

@@ -86,6 +86,7 @@ pub struct CommonArgs {
 
 impl CommonArgs {
     fn options(&self) -> Result<AnalysisOptions> {
+        squeal::output::protect_inputs(std::iter::once(&self.run_dir).chain(&self.modes));
         if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
             return Err(Error::input(
                 "command line",

@@ -375,6 +375,7 @@ fn finish(
 }
 
 fn run_compare(args: CompareArgs) -> Result<()> {
+    squeal::output::protect_inputs([&args.snapshot]);
     use squeal::kalker::snapshot::{compare_snapshot, compare_snapshot_on_profiles, PatchSnapshot};
     let snapshot: PatchSnapshot = squeal::input::read_json(&args.snapshot)?;
     let source = args.snapshot.display().to_string();

@@ -115,6 +115,7 @@ pub fn mass_kg(mesh: &Mesh, materials: &[u32], density_kg_per_m3: f64) -> f64 {
 
 /// Run `squeal mesh`.
 pub fn run(args: MeshArgs) -> Result<()> {
+    squeal::output::protect_inputs(args.model.iter().chain(&args.wheel));
     let outputs = MeshOutputs::of(&args)?;
     let started = std::time::Instant::now();
     let (mesh, steel) = if let Some(path) = &args.model {

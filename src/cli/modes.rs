@@ -119,6 +119,7 @@ pub struct ModesArgs {
 
 /// Run `squeal modes`.
 pub fn run(args: ModesArgs) -> Result<()> {
+    squeal::output::protect_inputs(args.wheel.iter().chain(&args.mesh).chain(&args.hammer));
     if !(args.fmax_hz.is_finite() && args.fmax_hz > 0.0 && args.fmax_hz <= 1e6) {
         return Err(Error::input(
             "command line",

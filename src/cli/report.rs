@@ -47,6 +47,7 @@ pub struct ReportArgs {
 
 /// Run `squeal report`.
 pub fn run(args: ReportArgs) -> Result<()> {
+    squeal::output::protect_inputs(args.run_dirs.iter().chain(&args.stability));
     let out = match (args.out, &args.name, &args.reports) {
         (Some(out), _, _) => out,
         (None, None, None) => {

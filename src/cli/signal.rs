@@ -60,6 +60,7 @@ impl InputArgs {
 
     /// Reads the column (each command once; the deprecated `--csv FILE` says so here, once).
     fn read(&self) -> Result<TimeSeries> {
+        squeal::output::protect_inputs(self.source.iter().chain(&self.csv));
         if self.source.is_none() && self.csv.is_some() {
             note("--csv FILE", "FILE (a positional SOURCE)");
         }
@@ -411,6 +412,7 @@ pub fn run_wav(args: WavArgs) -> Result<()> {
             .join(format!("{}.wav", args.input.column)),
     };
     if let Some(dir) = file.parent().filter(|d| !d.as_os_str().is_empty()) {
+        squeal::output::check_folder_target(dir)?;
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
     let count = write_file_staged(&file, |p| {

@@ -165,6 +165,10 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             ));
         }
         let loaded = load_case(&case_path)?;
+        squeal::output::protect_inputs([
+            case_path.clone(),
+            PathBuf::from(&loaded.scenario.source_name),
+        ]);
         let opts = SimulateOptions {
             out_dir: out.clone(),
             resume: args.resume,

@@ -255,6 +255,11 @@ fn apply_overrides(
 
 /// Run `squeal stability`.
 pub fn run(args: StabilityArgs) -> Result<()> {
+    squeal::output::protect_inputs(
+        std::iter::once(&args.case)
+            .chain(&args.run_dir)
+            .chain(&args.run),
+    );
     let settings = settings(&args)?;
     let sweep = args
         .sweep
