@@ -82,7 +82,7 @@ fn canonical_target(path: &Path) -> PathBuf {
 pub fn check_not_an_input(path: &Path) -> Result<()> {
     let target = canonical_target(path);
     let held = PROTECTED_INPUTS.lock().unwrap_or_else(|e| e.into_inner());
-    if held.iter().any(|p| *p == target) {
+    if held.contains(&target) {
         return Err(Error::input(
             path.display().to_string(),
             "--out",
