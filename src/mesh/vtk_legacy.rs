@@ -361,14 +361,25 @@ fn read_attribute(
     };
     let (_, aname) = t.next("the array name")?;
     let ncomp = attribute_components(t, line, &kw.to_ascii_uppercase())?;
-    let mut vals = Vec::with_capacity(t.cap(n * ncomp));
-    for _ in 0..n * ncomp {
+    read_array(t, n * ncomp, cell, aname, out)
+}
+
+/// `count` values of the array `name`, kept with the cell or the point data.
+fn read_array(
+    t: &mut Tokens<'_>,
+    count: usize,
+    cell: bool,
+    name: &str,
+    out: &mut VtuContents,
+) -> Result<()> {
+    let mut vals = Vec::with_capacity(t.cap(count));
+    for _ in 0..count {
         vals.push(t.number("a data value")?);
     }
     if cell {
-        out.cell_data.insert(aname.to_string(), vals);
+        out.cell_data.insert(name.to_string(), vals);
     } else {
-        out.point_data.insert(aname.to_string(), vals);
+        out.point_data.insert(name.to_string(), vals);
     }
     Ok(())
 }
@@ -440,15 +451,7 @@ fn read_field(
         let nc = t.count("the component count")?;
         let nt = t.count("the tuple count")?;
         t.next("the data type")?;
-        let mut vals = Vec::with_capacity(t.cap(nc.saturating_mul(nt)));
-        for _ in 0..nc.saturating_mul(nt) {
-            vals.push(t.number("a data value")?);
-        }
-        if cell {
-            out.cell_data.insert(aname.to_string(), vals);
-        } else {
-            out.point_data.insert(aname.to_string(), vals);
-        }
+        read_array(t, nc.saturating_mul(nt), cell, aname, out)?;
     }
     Ok(())
 }
