@@ -70,6 +70,33 @@ pub struct CreepageRamp {
     pub end_s: f64,
 }
 
+/// Curving: the half wheelset yawed about the vertical through the wheel centre by its angle
+/// of attack, as the inner wheel of a leading wheelset in a tight curve (the outer wheel's
+/// flange against its rail, the bogie holding the axle's lateral position). The axle turns
+/// about its own yawed axis, the forward guide moves it along the rail at the rolling speed
+/// and its lateral position is held, so the contact sees a steady lateral creepage of about
+/// `sin(psi)` (Rudd 1976; Thompson, Railway Noise and Vibration, 2009, ch. 9).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurvingSpec {
+    /// Angle of attack psi (mrad). Positive: the wheel heads towards the track centre (its
+    /// rolling direction `(cos psi, -sin psi, 0)`), so that, dragged along the rail, its
+    /// contact slides towards the field side (eta > 0) and the rail's friction pushes it
+    /// towards the track centre.
+    pub angle_of_attack_mrad: f64,
+}
+
+/// Largest angle of attack accepted (mrad): 50 mrad (2.9 degrees) is beyond any wheelset in
+/// a curve (a bogie of 2.5 m wheelbase in a 25 m tram curve runs at about 50 mrad).
+pub const MAX_ANGLE_OF_ATTACK_MRAD: f64 = 50.0;
+
+impl CurvingSpec {
+    /// The angle of attack (rad).
+    pub fn angle_of_attack_rad(&self) -> f64 {
+        self.angle_of_attack_mrad * 1e-3
+    }
+}
+
 /// How the static preload is found.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -146,7 +173,28 @@ pub struct OutputSpec {
     pub slip_threshold_m_per_s: f64,
     /// Checkpoint every this many steps (0 = never).
     pub checkpoint_every_steps: u64,
+    /// A ring of rim nodes whose velocities are decomposed by nodal diameter into `ring.csv`
+    /// (None: no ring).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ring: Option<RingSpec>,
 }
+
+/// The ring of rim nodes a run records (`ring.csv`, docs/rolling.md): `nodes` equally spaced
+/// nodes at one radius of the field-side rim face, their lateral, radial and circumferential
+/// velocities in the wheel's turning frame decomposed into the harmonics `n = 0..=n_max`
+/// around the circumference ([`crate::signal::ring`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RingSpec {
+    /// Nodes on the ring: at least `2 n_max + 1`, and a divisor of the wheel mesh's
+    /// circumferential divisions (the ring takes every k-th node of one circle).
+    pub nodes: usize,
+    /// Highest nodal diameter recorded.
+    pub n_max: usize,
+}
+
+/// Most nodes a ring may hold (the wheel meshes have at most a few hundred around).
+pub const MAX_RING_NODES: usize = 4096;
 
 /// A rolling case.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -186,6 +234,10 @@ pub struct RollingCase {
     pub hold_forward_speed: bool,
     /// Lateral motion of the axle ends (None: case 1, no lateral motion).
     pub lateral_motion: Option<LateralMotion>,
+    /// Curving: the wheelset yawed by its angle of attack at a held lateral position (None:
+    /// no yaw). Not with `lateral_motion`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub curving: Option<CurvingSpec>,
     /// Friction law.
     pub friction: FrictionLaw,
     /// Penalty scale factor `s` in `k = s K A^2 / V`.
@@ -240,6 +292,7 @@ impl RollingCase {
         if let Some(l) = &self.lateral_motion {
             l.validate(source, "lateral_motion", self.end_time_s)?;
         }
+        self.validate_curving(&c)?;
         self.friction.validate(source, "friction")?;
         self.validate_numerics(&c)?;
         self.time_stepping.validate(source)?;
@@ -297,6 +350,35 @@ impl RollingCase {
         c.positive("torque.ramp_end_s", self.torque.ramp_end_s)
     }
 
+    /// The angle of attack, and what it cannot be combined with.
+    fn validate_curving(&self, c: &Checker) -> Result<()> {
+        let Some(curving) = &self.curving else {
+            return Ok(());
+        };
+        let limit = MAX_ANGLE_OF_ATTACK_MRAD;
+        c.within(
+            "curving.angle_of_attack_mrad",
+            curving.angle_of_attack_mrad,
+            -limit,
+            limit,
+        )?;
+        c.require(self.lateral_motion.is_none(), "curving", || {
+            "a yawed wheelset holds its lateral position: remove lateral_motion, or remove \
+             curving (a case has either a lateral motion or an angle of attack)"
+                .into()
+        })?;
+        c.require(self.hold_forward_speed, "hold_forward_speed", || {
+            "a yawed wheelset is guided along the rail: set hold_forward_speed to true (or \
+             leave it out), or remove curving"
+                .into()
+        })
+    }
+
+    /// The angle of attack (rad; 0 without curving).
+    pub fn angle_of_attack_rad(&self) -> f64 {
+        self.curving.map_or(0.0, |c| c.angle_of_attack_rad())
+    }
+
     /// Contact penalty, damping and the static preload's settings.
     fn validate_numerics(&self, c: &Checker) -> Result<()> {
         c.above_at_most("penalty_scale", self.penalty_scale, 0.0, 100.0)?;
@@ -331,7 +413,24 @@ impl RollingCase {
                 c.within(&format!("{name}[{k}]"), *t, 0.0, self.end_time_s)?;
             }
         }
-        c.positive("output.slip_threshold_m_per_s", o.slip_threshold_m_per_s)
+        c.positive("output.slip_threshold_m_per_s", o.slip_threshold_m_per_s)?;
+        if let Some(ring) = &o.ring {
+            c.require(
+                (3..=MAX_RING_NODES).contains(&ring.nodes),
+                "output.ring.nodes",
+                || format!("must be in 3..={MAX_RING_NODES}, got {}", ring.nodes),
+            )?;
+            c.require(ring.nodes > 2 * ring.n_max, "output.ring.nodes", || {
+                format!(
+                    "a ring resolving n = 0..={} needs at least 2 n_max + 1 = {} nodes (the \
+                     aliasing bound, docs/rolling.md), got {}",
+                    ring.n_max,
+                    2 * ring.n_max + 1,
+                    ring.nodes
+                )
+            })?;
+        }
+        Ok(())
     }
 
     /// Rolling speed (m/s).

@@ -35,6 +35,23 @@ pub struct RimAndHub {
     pub rim_nodes: Vec<usize>,
     /// The hub bore nodes (the wheel centre and its spin).
     pub hub_nodes: Vec<usize>,
+    /// The ring of rim nodes the run decomposes by nodal diameter (None: not asked for).
+    pub ring: Option<RingNodes>,
+}
+
+/// Equally spaced nodes around one circle of the field-side rim face, in the order of their
+/// material angle about the axle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RingNodes {
+    /// The nodes, at angles `theta_0 + 2 pi k / N`.
+    pub nodes: Vec<usize>,
+    /// Material angle of the first (rad): `atan2(x - x_c, z - z_c)` on the upright wheel, 0
+    /// at the top, growing towards the front (+x).
+    pub theta0_rad: f64,
+    /// Radius of the circle (m).
+    pub radius_m: f64,
+    /// Highest nodal diameter recorded.
+    pub n_max: usize,
 }
 
 /// The axle ends as one rigid body that turns only about the axle axis (y), as in its
@@ -48,8 +65,12 @@ pub struct AxleBody {
     pub node_set: String,
     /// Lateral displacement against time (m).
     pub lateral_m: Curve,
-    /// Driving torque about y against time (N m).
+    /// Driving torque about the axle axis against time (N m).
     pub torque_n_m: Curve,
+    /// The axle's axis (unit vector): `e_y` turned about the vertical by the angle of attack,
+    /// `(sin psi, cos psi, 0)` ([`crate::model::case::CurvingSpec`]); the body turns about it
+    /// and the torque acts about it.
+    pub axis: P3,
 }
 
 /// The sprung mass on the primary suspension, joined to the axle-box node nearest the axis.
@@ -139,11 +160,28 @@ pub fn describe(loaded: &LoadedCase) -> Result<RollingDescription> {
     let wheelset_nodes = wheelset_nodes(&mesh);
     let centre = sc.wheel_placement().tape_circle_centre_m;
     let rolling_radius_m = sc.wheel.tread_radius_mm(0.0) * 1e-3;
-    let rim_and_hub = rim_and_hub(&mesh, &wheelset_nodes, centre, &source)?;
+    let mut rim_and_hub = rim_and_hub(&mesh, &wheelset_nodes, centre, &source)?;
+    if let Some(spec) = &case.output.ring {
+        rim_and_hub.ring = Some(ring_nodes(
+            &mesh.nodes,
+            &rim_and_hub.rim_nodes,
+            centre,
+            spec.nodes,
+            spec.n_max,
+            &source,
+        )?);
+    }
     let contact = contact_spec(&mesh, case, steel, &source)?;
     let (fixed_sets, track_springs) = track_supports(&mesh, case, &source)?;
     let axle = axle_body(&mut mesh, case, &source)?;
     let sprung_mass = sprung_mass(&mesh, case, centre, &source)?;
+    // Last: the rim, hub, axle-box and contact nodes were found on the upright wheelset.
+    yaw_wheelset(
+        &mut mesh,
+        &wheelset_nodes,
+        centre,
+        case.angle_of_attack_rad(),
+    );
     Ok(RollingDescription {
         mesh,
         steel,
@@ -201,7 +239,71 @@ fn rim_and_hub(mesh: &Mesh, wheelset: &[usize], centre: P3, source: &str) -> Res
         rim_node,
         rim_nodes,
         hub_nodes,
+        ring: None,
     })
+}
+
+/// The ring of `count` equally spaced nodes on the rim face: of the circles of the face (its
+/// nodes grouped by radius, to 0.01 mm) the outermost that holds a node within 1e-6 rad of
+/// every angle `theta_0 + 2 pi k / count`, `theta_0` the angle of its first node. The wheel
+/// body's circles qualify when `count` divides their divisions; the tread band's, graded
+/// around the wheel, do not.
+pub fn ring_nodes(
+    nodes: &[P3],
+    rim_face: &[usize],
+    centre: P3,
+    count: usize,
+    n_max: usize,
+    source: &str,
+) -> Result<RingNodes> {
+    use std::f64::consts::TAU;
+    let angle = |n: usize| (nodes[n][0] - centre[0]).atan2(nodes[n][2] - centre[2]);
+    let mut circles: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
+    for &n in rim_face {
+        let r_mm = axis_distance2(nodes[n], centre).sqrt() * 1e3;
+        circles
+            .entry((r_mm * 100.0).round() as i64)
+            .or_default()
+            .push(n);
+    }
+    let mut found = Vec::new();
+    for (key, members) in circles.iter().rev() {
+        found.push(format!("{:.2} mm: {}", *key as f64 / 100.0, members.len()));
+        let Some(&first) = members
+            .iter()
+            .min_by(|&&a, &&b| angle(a).total_cmp(&angle(b)))
+        else {
+            continue;
+        };
+        let theta0 = angle(first);
+        let ring: Option<Vec<usize>> = (0..count)
+            .map(|k| {
+                let target = theta0 + TAU * k as f64 / count as f64;
+                members.iter().copied().find(|&n| {
+                    let d = (angle(n) - target).rem_euclid(TAU);
+                    d.min(TAU - d) < 1e-6
+                })
+            })
+            .collect();
+        if let Some(ring) = ring {
+            return Ok(RingNodes {
+                nodes: ring,
+                theta0_rad: theta0,
+                radius_m: *key as f64 / 100.0 * 1e-3,
+                n_max,
+            });
+        }
+    }
+    Err(Error::input(
+        source,
+        "output.ring.nodes",
+        format!(
+            "no circle of the field-side rim face holds {count} equally spaced nodes; choose a \
+             divisor of the wheel mesh's circumferential_divisions (nodes per circle, outermost \
+             first: {})",
+            found.join(", ")
+        ),
+    ))
 }
 
 fn contact_spec(
@@ -319,7 +421,38 @@ fn axle_body(mesh: &mut Mesh, case: &RollingCase, source: &str) -> Result<AxleBo
         node_set: "axle_ends".into(),
         lateral_m: lateral_curve(case)?,
         torque_n_m,
+        axis: yawed_axle_axis(case.angle_of_attack_rad()),
     })
+}
+
+/// The axle axis of a wheelset yawed by `psi` (rad): `e_y` turned about `e_z` by `-psi`, so
+/// that the rolling direction `a x e_z` is `(cos psi, -sin psi, 0)` (towards the track
+/// centre for psi > 0, [`crate::model::case::CurvingSpec`]).
+pub fn yawed_axle_axis(psi_rad: f64) -> P3 {
+    if psi_rad == 0.0 {
+        // Exactly e_y: the upright wheelset's runs stay bit for bit what they were.
+        return [0.0, 1.0, 0.0];
+    }
+    [psi_rad.sin(), psi_rad.cos(), 0.0]
+}
+
+/// Turns the wheelset's nodes about the vertical through the wheel centre by `-psi` (the
+/// rotation that takes `e_y` to [`yawed_axle_axis`]). The contact point under the centre stays
+/// where it was; a tread point a distance `x` ahead of it moves sideways by `psi x`.
+fn yaw_wheelset(mesh: &mut Mesh, wheelset: &[usize], centre: P3, psi_rad: f64) {
+    if psi_rad == 0.0 {
+        return;
+    }
+    let (sin, cos) = (-psi_rad).sin_cos();
+    for &n in wheelset {
+        let p = mesh.nodes[n];
+        let (dx, dy) = (p[0] - centre[0], p[1] - centre[1]);
+        mesh.nodes[n] = [
+            centre[0] + cos * dx - sin * dy,
+            centre[1] + sin * dx + cos * dy,
+            p[2],
+        ];
+    }
 }
 
 fn sprung_mass(mesh: &Mesh, case: &RollingCase, centre: P3, source: &str) -> Result<SprungMass> {

@@ -133,9 +133,9 @@ fn engine_model(d: &mut RollingDescription, source: &str) -> Result<(Model, usiz
     let axle = model.add_rigid_body(&d.axle.node_set)?;
     let rb: &mut RigidBodySpec = &mut model.rigid_bodies[axle];
     rb.prescribed_translation_m[1] = Some(d.axle.lateral_m.clone());
-    rb.rotation_axis = Some([0.0, 1.0, 0.0]);
+    rb.rotation_axis = Some(d.axle.axis);
     rb.torque = Some(TorqueLoad {
-        axis: [0.0, 1.0, 0.0],
+        axis: d.axle.axis,
         curve_n_m: d.axle.torque_n_m.clone(),
     });
     let sm = &d.sprung_mass;
@@ -205,7 +205,15 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         time_stepping: "single rate".into(),
         step_levels: None,
     };
-    let contact = RollingContact::new(pair, d.rim_and_hub, &case.output, axle, d.wheel_centre_m[1]);
+    let contact = RollingContact::new(
+        pair,
+        d.rim_and_hub,
+        &case.output,
+        axle,
+        d.wheel_centre_m,
+        d.axle.axis,
+        &solver.model.mesh.nodes,
+    )?;
     // The contact acts on its slaves and master faces only: the step zeroes and reads the
     // auxiliary forces there (explicit::aux_nodes).
     solver.declare_aux_forces_of(&contact)?;

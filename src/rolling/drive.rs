@@ -7,17 +7,20 @@ use crate::mesh::P3;
 use crate::model::case;
 use crate::Result;
 
-/// Holds the axle at the rolling speed and spins it at `V (1 + xi(t)) / R` (see
-/// [`case::CreepageRamp`]): forward speed and spin are prescribed on the axle body from now on.
+/// Holds the axle at the rolling speed and spins it at `V cos(psi) (1 + xi(t)) / R` (see
+/// [`case::CreepageRamp`]; psi the angle of attack, whose wheel rolls freely at `V cos(psi) /
+/// R`): forward speed and spin are prescribed on the axle body from now on.
 pub(super) fn prescribe_creepage(
     m: &mut RollingModel,
     ramp: &case::CreepageRamp,
     speed_m_per_s: f64,
     radius_m: f64,
+    angle_of_attack_rad: f64,
 ) -> Result<()> {
     let t0 = m.solver.time_s;
     let end = m.solver.time_s.max(ramp.end_s) + 1.0;
-    let spin = |xi: f64| speed_m_per_s * (1.0 + xi) / radius_m;
+    let rolling_speed = speed_m_per_s * angle_of_attack_rad.cos();
+    let spin = |xi: f64| rolling_speed * (1.0 + xi) / radius_m;
     let mut times = vec![t0];
     let mut values = vec![spin(0.0)];
     if ramp.start_s > t0 {
@@ -70,13 +73,18 @@ pub(super) fn loaded_centre_and_radius(m: &RollingModel) -> (P3, f64) {
             c[i] += (nodes[h][i] + u[h][i]) / hub.len() as f64;
         }
     }
+    let axis = m.solver.model.rigid_bodies[m.axle_body]
+        .rotation_axis
+        .unwrap_or([0.0, 1.0, 0.0]);
     let (mut weighted, mut total) = (0.0, 0.0);
     for (k, st) in m.contact.pair.state.iter().enumerate() {
         if st.active {
             let n = m.contact.pair.slaves[k];
-            let dx = nodes[n][0] + u[n][0] - c[0];
-            let dz = nodes[n][2] + u[n][2] - c[2];
-            weighted += st.normal_force_n * (dx * dx + dz * dz).sqrt();
+            // The distance from the axis: the part of r across it.
+            let r: P3 = [0, 1, 2].map(|i| nodes[n][i] + u[n][i] - c[i]);
+            let along = r[0] * axis[0] + r[1] * axis[1] + r[2] * axis[2];
+            let [dx, dy, dz] = [0, 1, 2].map(|i| r[i] - along * axis[i]);
+            weighted += st.normal_force_n * (dx * dx + dy * dy + dz * dz).sqrt();
             total += st.normal_force_n;
         }
     }

@@ -50,12 +50,15 @@ pub struct ContactKinematics {
 }
 
 /// The kinematics of the slaves now in contact (None when nothing is in contact).
-/// `tape_circle_y_m` is the reference lateral position of the wheel's tape circle.
+/// `tape_circle_y_m` is the reference lateral position of the wheel's tape circle;
+/// `slave_yaw_shift_y_m` per slave how far the angle of attack moved its reference position
+/// sideways (empty: none), taken off so that S and the lateral offset are the wheel's own.
 pub fn contact_kinematics(
     pair: &ContactPair,
     reference: &[P3],
     output: &OutputFields,
     tape_circle_y_m: f64,
+    slave_yaw_shift_y_m: &[f64],
 ) -> Option<ContactKinematics> {
     let mut total = 0.0;
     let mut sum = ContactKinematics::default();
@@ -73,8 +76,9 @@ pub fn contact_kinematics(
             master_v_y += st.weights[j] * output.velocity[m][1];
             master_u_y += st.weights[j] * output.displacement[m][1];
         }
+        let shift = slave_yaw_shift_y_m.get(k).copied().unwrap_or(0.0);
         total += w;
-        sum.wheel_s_mm += w * (reference[slave][1] - tape_circle_y_m) * 1e3;
+        sum.wheel_s_mm += w * (reference[slave][1] - shift - tape_circle_y_m) * 1e3;
         sum.rail_y_mm += w * master_ref_y * 1e3;
         n_y += w * st.normal[1];
         n_z += w * st.normal[2];
@@ -82,7 +86,7 @@ pub fn contact_kinematics(
         sum.rail_lateral_velocity_m_per_s += w * master_v_y;
         sum.lateral_microslip_m_per_s += w * st.slip_velocity_m_per_s[1];
         sum.longitudinal_microslip_m_per_s += w * st.slip_velocity_m_per_s[0];
-        sum.lateral_offset_m += w * (output.displacement[slave][1] - master_u_y);
+        sum.lateral_offset_m += w * (output.displacement[slave][1] + shift - master_u_y);
     }
     if total <= 0.0 {
         return None;

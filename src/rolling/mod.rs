@@ -29,6 +29,7 @@ pub mod instruments;
 pub mod output;
 mod preload;
 pub mod record;
+pub mod ring;
 pub mod stepping;
 pub mod wheel_modes;
 
@@ -350,13 +351,18 @@ fn start_rolling(m: &mut RollingModel, case: &RollingCase) -> Result<()> {
     let (centre, radius) = loaded_centre_and_radius(m);
     m.info.rolling_radius_m = radius;
     m.info.wheel_centre_m = centre;
-    let omega = [0.0, speed / radius, 0.0];
+    // A yawed wheel (angle of attack psi) rolls freely at the spin `V cos(psi) / R` about its
+    // axis a, and slides sideways at `V sin(psi)` (the steady lateral creepage).
+    let psi = case.angle_of_attack_rad();
+    let axis = crate::model::rolling::yawed_axle_axis(psi);
+    let spin = speed * psi.cos() / radius;
+    let omega = axis.map(|a| a * spin);
     let nodes = m.wheelset_nodes.clone();
     m.solver
         .set_initial_velocity(Some(&nodes), [speed, 0.0, 0.0], omega, centre);
     m.solver.v[m.sprung_node] = [speed, 0.0, 0.0];
     if let Some(ramp) = case.creepage {
-        prescribe_creepage(m, &ramp, speed, radius)?;
+        prescribe_creepage(m, &ramp, speed, radius, psi)?;
     } else if case.hold_forward_speed {
         hold_forward_speed(m, speed)?;
     }

@@ -7,6 +7,7 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use super::instruments::{contact_kinematics, ContactKinematics, ContactPointRecord};
+use super::ring::RingRecorder;
 use crate::contact::{patch, ContactPair};
 use crate::explicit::run::{push_num, resume_csv, RunSummary};
 use crate::explicit::solver::OutputFields;
@@ -38,6 +39,12 @@ pub struct RollingContact {
     pub(super) axle_body: usize,
     /// Reference lateral position of the wheel's tape circle (m).
     pub(super) tape_circle_y_m: f64,
+    /// The wheel's frame: its axis and rolling direction ([`WheelFrame`]).
+    pub(super) frame: WheelFrame,
+    /// Per slave: how far the angle of attack moved its reference position sideways (m; empty
+    /// for an upright wheelset), so that the contact point on the wheel profile and the
+    /// lateral offset are read in the wheel's own frame.
+    pub(super) slave_yaw_shift_y_m: Vec<f64>,
     /// Tape-circle position of first flange contact from the profiles (m), if any.
     pub(super) flange_contact_wheel_y_m: Option<f64>,
     /// Contact kinematics of the last sample.
@@ -48,6 +55,8 @@ pub struct RollingContact {
     pub(super) forward_guide_force_n: f64,
     /// Writes the run's record at each periodic checkpoint (set by the rolling run).
     pub(super) checkpoint_record: Option<CheckpointRecord>,
+    /// The ring of rim nodes recorded by nodal diameter (`ring.csv`), when the case asks.
+    pub(super) ring: Option<RingRecorder>,
 }
 
 /// What writes a rolling run's record at a checkpoint: the engine's summary then, and the
@@ -57,19 +66,38 @@ pub(super) type CheckpointRecord =
 
 impl RollingContact {
     /// The outputs of a rolling run over `pair`: `axle_body` is the rigid body whose reaction is
-    /// the forward guide's force; `tape_circle_y_m` the wheel's reference lateral position.
+    /// the forward guide's force; `wheel_centre_m` the wheel centre at the tape circle and
+    /// `axis` the axle's axis ([`crate::model::rolling::yawed_axle_axis`]); `reference` the
+    /// mesh's node positions (the yawed wheelset's).
     pub fn new(
         pair: ContactPair,
         nodes: RimAndHub,
         output: &crate::model::case::OutputSpec,
         axle_body: usize,
-        tape_circle_y_m: f64,
-    ) -> RollingContact {
+        wheel_centre_m: P3,
+        axis: P3,
+        reference: &[P3],
+    ) -> Result<RollingContact> {
+        let tape_circle_y_m = wheel_centre_m[1];
         // From the profiles: where the flange would touch the rail if the wheel moved towards
         // the field side (the flange clearance is measured against it).
         let flange_contact_wheel_y_m =
             crate::kalker::profiles::flange_contact_wheel_y_m(tape_circle_y_m);
-        RollingContact {
+        let frame = WheelFrame::new(axis);
+        let slave_yaw_shift_y_m = if frame.is_upright() {
+            Vec::new()
+        } else {
+            // Un-yawed, a node's lateral offset from the centre is its axial coordinate.
+            pair.slaves
+                .iter()
+                .map(|&n| {
+                    let r: P3 = [0, 1, 2].map(|i| reference[n][i] - wheel_centre_m[i]);
+                    r[1] - dot3(r, axis)
+                })
+                .collect()
+        };
+        let ring = nodes.ring.clone().map(RingRecorder::new).transpose()?;
+        Ok(RollingContact {
             pair,
             rim_node: nodes.rim_node,
             rim_nodes: nodes.rim_nodes,
@@ -83,12 +111,15 @@ impl RollingContact {
             longest_loss_s: 0.0,
             axle_body,
             tape_circle_y_m,
+            frame,
+            slave_yaw_shift_y_m,
             flange_contact_wheel_y_m,
             kinematics: None,
             contact_point: None,
             forward_guide_force_n: 0.0,
             checkpoint_record: None,
-        }
+            ring,
+        })
     }
 
     /// Flange clearance (mm) for the lateral offset of the tread at the contact; NaN when the
@@ -195,8 +226,11 @@ impl RollingContact {
         Ok(())
     }
 
-    /// Flushes `contact_forces.csv`.
+    /// Flushes `contact_forces.csv` and `ring.csv`.
     pub fn flush(&mut self) -> Result<()> {
+        if let Some(ring) = self.ring.as_mut() {
+            ring.flush(&self.out_dir)?;
+        }
         let path = self.out_dir.join("contact_forces.csv");
         if let Some(w) = self.writer.as_mut() {
             w.flush().map_err(|e| Error::io(&path, e))?;
@@ -205,12 +239,60 @@ impl RollingContact {
     }
 }
 
+/// `a . b`.
+fn dot3(a: P3, b: P3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `a x b`.
+fn cross3(a: P3, b: P3) -> P3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// The wheel's frame, which moves with the wheelset but does not turn with its spin: the axle
+/// axis `a` (lateral), the vertical `e_z` and the rolling direction `a x e_z` (longitudinal).
+/// Upright (`a = e_y`) these are the track's y, z and x, and every product below reduces
+/// exactly to the track components (multiplications by 0 and 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WheelFrame {
+    /// The axle axis (unit vector).
+    pub axis: P3,
+    /// The rolling direction `a x e_z` (unit vector, horizontal).
+    pub rolling: P3,
+}
+
+impl WheelFrame {
+    /// The frame of a wheel turning about `axis` (a horizontal unit vector).
+    pub fn new(axis: P3) -> WheelFrame {
+        WheelFrame {
+            axis,
+            rolling: cross3(axis, [0.0, 0.0, 1.0]),
+        }
+    }
+
+    /// Whether the axis is exactly the track's y (no angle of attack).
+    pub fn is_upright(&self) -> bool {
+        self.axis == [0.0, 1.0, 0.0]
+    }
+
+    /// A vector's lateral (along the axis), vertical and longitudinal components.
+    pub fn components(&self, v: P3) -> [f64; 3] {
+        [dot3(v, self.axis), v[2], dot3(v, self.rolling)]
+    }
+}
+
 /// Rigid motion of the wheelset from the hub nodes: centre velocity (mean) and spin rate about
-/// y, `Omega = mean((r x (v - v_c))_y / |r|^2)` with r in the x-z plane.
+/// the axis `a`, `Omega = mean((r x (v - v_c)) . a / |r_perp|^2)` with `r_perp = r - (r . a) a`
+/// the part of `r` across the axis.
 pub(super) fn wheelset_motion(
     hub: &[usize],
     reference: &[P3],
     output: &OutputFields,
+    axis: P3,
 ) -> (P3, P3, f64) {
     let n = hub.len().max(1) as f64;
     let mut c = [0.0; 3];
@@ -223,36 +305,32 @@ pub(super) fn wheelset_motion(
     }
     let mut omega = 0.0;
     for &h in hub {
-        let rx = reference[h][0] + output.displacement[h][0] - c[0];
-        let rz = reference[h][2] + output.displacement[h][2] - c[2];
-        let dvx = output.velocity[h][0] - vc[0];
-        let dvz = output.velocity[h][2] - vc[2];
-        // (r x dv)_y = r_z dv_x - r_x dv_z
-        let r2 = rx * rx + rz * rz;
+        let r: P3 = [0, 1, 2].map(|i| reference[h][i] + output.displacement[h][i] - c[i]);
+        let along = dot3(r, axis);
+        let r_perp: P3 = [0, 1, 2].map(|i| r[i] - along * axis[i]);
+        let dv: P3 = [0, 1, 2].map(|i| output.velocity[h][i] - vc[i]);
+        let r2 = dot3(r_perp, r_perp);
         if r2 > 0.0 {
-            omega += (rz * dvx - rx * dvz) / r2 / n;
+            omega += dot3(cross3(r_perp, dv), axis) / r2 / n;
         }
     }
     (c, vc, omega)
 }
 
 /// Velocity of node `nd` relative to the rigid motion (centre `c`, velocity `vc`, spin
-/// `omega` about y): `v - v_c - omega e_y x r`, with `e_y x r = (r_z, 0, -r_x)`.
+/// `omega` about the axis `a`): `v - v_c - omega a x r`.
 pub(super) fn deformation_velocity(
     nd: usize,
     reference: &[P3],
     output: &OutputFields,
-    c: P3,
-    vc: P3,
-    omega: f64,
+    motion: (P3, P3, f64),
+    axis: P3,
 ) -> P3 {
+    let (c, vc, omega) = motion;
     let r = [0, 1, 2].map(|i| reference[nd][i] + output.displacement[nd][i] - c[i]);
+    let spin = cross3(axis, r);
     let v = output.velocity[nd];
-    [
-        v[0] - vc[0] - omega * r[2],
-        v[1] - vc[1],
-        v[2] - vc[2] + omega * r[0],
-    ]
+    [0, 1, 2].map(|i| v[i] - vc[i] - omega * spin[i])
 }
 
 /// Wheel vibration columns of `histories.csv`.
@@ -319,23 +397,37 @@ impl AuxForces for RollingContact {
         output: &OutputFields,
         row: &mut String,
     ) -> Result<()> {
-        let (c, vc, omega) = wheelset_motion(&self.hub_nodes, reference, output);
-        let point = deformation_velocity(self.rim_node, reference, output, c, vc, omega);
+        let axis = self.frame.axis;
+        let motion = wheelset_motion(&self.hub_nodes, reference, output, axis);
+        let omega = motion.2;
+        let point = deformation_velocity(self.rim_node, reference, output, motion, axis);
         let mut mean = [0.0; 3];
         for &nd in &self.rim_nodes {
-            let d = deformation_velocity(nd, reference, output, c, vc, omega);
+            let d = deformation_velocity(nd, reference, output, motion, axis);
             for i in 0..3 {
                 mean[i] += d[i] / self.rim_nodes.len() as f64;
             }
         }
-        // Lateral = y, vertical = z, longitudinal = x.
+        // Lateral (along the axle), vertical, longitudinal (the rolling direction).
+        let point = self.frame.components(point);
+        let mean = self.frame.components(mean);
+        if let Some(ring) = self.ring.as_mut() {
+            let out = (self.out_dir.as_path(), self.resuming);
+            ring.record(time_s, reference, output, motion, &self.frame, out)?;
+        }
         for x in [
-            point[1], point[2], point[0], mean[1], mean[2], mean[0], omega,
+            point[0], point[1], point[2], mean[0], mean[1], mean[2], omega,
         ] {
             row.push(',');
             push_num(row, x);
         }
-        self.kinematics = contact_kinematics(&self.pair, reference, output, self.tape_circle_y_m);
+        self.kinematics = contact_kinematics(
+            &self.pair,
+            reference,
+            output,
+            self.tape_circle_y_m,
+            &self.slave_yaw_shift_y_m,
+        );
         self.forward_guide_force_n = output
             .rigid_reaction_force_n
             .get(self.axle_body)
@@ -353,7 +445,7 @@ impl AuxForces for RollingContact {
             }
         }
         for x in [
-            point[1] - mean[1],
+            point[0] - mean[0],
             k.tread_lateral_velocity_m_per_s,
             k.rail_lateral_velocity_m_per_s,
             k.lateral_microslip_m_per_s,

@@ -8,6 +8,7 @@
 //! - [`wavelet`]: Morlet continuous wavelet transform and its cone of influence;
 //! - [`peaks`]: local maxima, prominences, selection and sub-bin refinement;
 //! - [`resolution`]: Welch parameters for a requested bin spacing (zero padding);
+//! - [`ring`]: nodal-diameter decomposition of a field on a ring of equally spaced points;
 //! - [`resample`]: band-limited (windowed-sinc) resampling to another rate;
 //! - [`wav`]: 16-bit PCM WAV writing/reading;
 //! - [`series`]: uniformly sampled time series read from CSV files.
@@ -16,6 +17,7 @@ pub mod detrend;
 pub mod peaks;
 pub mod resample;
 pub mod resolution;
+pub mod ring;
 pub mod series;
 pub mod wav;
 pub mod wavelet;
