@@ -35,6 +35,33 @@ fn fixtures() -> PathBuf {
     std::fs::write(run.join("histories.csv"), h).unwrap();
     // A folder that is not a run directory (no histories.csv).
     std::fs::create_dir_all(dir.join("norun")).unwrap();
+    // Curve cases with one thing wrong each (issue 57): the tiny curve case with its model
+    // named by absolute path.
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+    let curve: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(data.join("cases/curve-ci.json")).unwrap())
+            .unwrap();
+    let ramp: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(data.join("cases/case3-ci.json")).unwrap())
+            .unwrap();
+    let write_case = |name: &str, edit: &dyn Fn(&mut serde_json::Value)| {
+        let mut c = curve.clone();
+        c["model_scenario"] = serde_json::json!(data.join("models/ci-tiny.json"));
+        edit(&mut c);
+        std::fs::write(dir.join(name), serde_json::to_string_pretty(&c).unwrap()).unwrap();
+    };
+    write_case("aoa60.json", &|c| {
+        c["curving"]["angle_of_attack_mrad"] = serde_json::json!(60.0)
+    });
+    write_case("ring20.json", &|c| {
+        c["output"]["ring"] = serde_json::json!({"nodes": 20, "n_max": 10})
+    });
+    write_case("ring7.json", &|c| {
+        c["output"]["ring"] = serde_json::json!({"nodes": 7, "n_max": 3})
+    });
+    write_case("yaw_and_ramp.json", &|c| {
+        c["lateral_motion"] = ramp["lateral_motion"].clone()
+    });
     dir
 }
 
@@ -77,6 +104,10 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let run = fx.join("run").display().to_string();
     let norun = fx.join("norun").display().to_string();
     let missing = fx.join("missing.json").display().to_string();
+    let aoa60 = fx.join("aoa60.json").display().to_string();
+    let ring20 = fx.join("ring20.json").display().to_string();
+    let ring7 = fx.join("ring7.json").display().to_string();
+    let yaw_and_ramp = fx.join("yaw_and_ramp.json").display().to_string();
     let frf = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/fixtures/uff/frf_ascii.uff")
         .display()
@@ -951,6 +982,65 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["stability", "--case", &missing, "--out", "o"],
             2,
             vec!["missing.json"],
+        ),
+        // Curving and the rim ring (issue 57).
+        (
+            vec!["simulate", "--case", &aoa60, "--out", "o"],
+            2,
+            vec!["aoa60.json", "curving.angle_of_attack_mrad", "[-50, 50]"],
+        ),
+        (
+            vec!["simulate", "--case", &ring20, "--out", "o"],
+            2,
+            vec!["ring20.json", "output.ring.nodes", "2 n_max + 1 = 21"],
+        ),
+        (
+            // 7 nodes are enough for n <= 3, but no circle of the tiny wheel (48 around)
+            // holds 7 equally spaced nodes.
+            vec!["simulate", "--case", &ring7, "--out", "o"],
+            2,
+            vec!["ring7.json", "output.ring.nodes", "divisor"],
+        ),
+        (
+            vec!["simulate", "--case", &yaw_and_ramp, "--out", "o"],
+            2,
+            vec!["yaw_and_ramp.json", "curving", "lateral_motion"],
+        ),
+        (
+            vec!["check-modes", &run, "--per-n", "--require", "0,3"],
+            2,
+            vec!["ring.csv", "output.ring"],
+        ),
+        (
+            vec![
+                "identify",
+                &run,
+                "--per-n",
+                "--direction",
+                "vertical",
+                "--out",
+                "o",
+            ],
+            2,
+            vec!["--direction", "radial"],
+        ),
+        (
+            vec!["identify", &run, "--direction", "radial", "--out", "o"],
+            2,
+            vec!["--direction", "--per-n"],
+        ),
+        (
+            vec![
+                "check-modes",
+                &run,
+                "--per-n",
+                "--require",
+                "0,3",
+                "--margin-db",
+                "-1",
+            ],
+            2,
+            vec!["--margin-db", ">= 0"],
         ),
     ];
     assert!(rows.len() >= 95, "{} rows", rows.len());

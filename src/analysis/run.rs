@@ -313,7 +313,7 @@ pub fn lateral_onset_s(run_dir: &Path) -> Option<f64> {
 }
 
 /// Sample indices of the window `[from_s, to_s]` of a series; errors name the option.
-fn window_range(
+pub(crate) fn window_range(
     series: &TimeSeries,
     from_s: f64,
     to_s: Option<f64>,

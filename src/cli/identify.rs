@@ -7,6 +7,10 @@ use clap::Args;
 use squeal::analysis::identify::{
     missing_required, parse_required, to_csv, to_markdown, Tolerance,
 };
+use squeal::analysis::per_n::{
+    analyse_ring, check_required, map_csv, peaks_csv, peaks_markdown, PerNAnalysis, PerNOptions,
+    RingDirection, PER_N_MARGIN_DB,
+};
 use squeal::analysis::{analyse_run, AnalysisOptions};
 use squeal::output::{Commit, StagedDir};
 
@@ -16,12 +20,16 @@ use squeal::{Error, Result};
 /// The direction of a run's wheel signal.
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 pub enum DirectionArg {
-    /// Lateral (y, along the wheel axis).
+    /// Lateral (along the wheel axis): histories.csv and the ring.
     Lateral,
-    /// Vertical (z).
+    /// Vertical (z): histories.csv.
     Vertical,
-    /// Longitudinal (x, along the track).
+    /// Longitudinal (along the track): histories.csv.
     Longitudinal,
+    /// Radial, in the wheel's turning frame: the ring (--per-n).
+    Radial,
+    /// Circumferential, in the wheel's turning frame: the ring (--per-n).
+    Circumferential,
 }
 
 impl DirectionArg {
@@ -30,6 +38,26 @@ impl DirectionArg {
             DirectionArg::Lateral => "lateral",
             DirectionArg::Vertical => "vertical",
             DirectionArg::Longitudinal => "longitudinal",
+            DirectionArg::Radial => "radial",
+            DirectionArg::Circumferential => "circumferential",
+        }
+    }
+
+    /// The ring's direction, for --per-n.
+    fn ring(self) -> Result<RingDirection> {
+        match self {
+            DirectionArg::Lateral => Ok(RingDirection::Lateral),
+            DirectionArg::Radial => Ok(RingDirection::Radial),
+            DirectionArg::Circumferential => Ok(RingDirection::Circumferential),
+            DirectionArg::Vertical | DirectionArg::Longitudinal => Err(Error::input(
+                "command line",
+                "--direction",
+                format!(
+                    "`{}` is a direction of histories.csv; allowed with --per-n (the rim ring): \
+                     lateral, radial, circumferential",
+                    self.word()
+                ),
+            )),
         }
     }
 }
@@ -82,6 +110,10 @@ pub struct CommonArgs {
     /// Modes file (default RUN_DIR/modes.json).
     #[arg(long)]
     pub modes: Option<PathBuf>,
+    /// Per nodal diameter: analyse the run's rim ring (ring.csv) harmonic by harmonic, each
+    /// harmonic's peaks named from the modes of its n only (docs/curving.md#per-n-analysis).
+    #[arg(long, conflicts_with_all = ["column", "signal"])]
+    pub per_n: bool,
 }
 
 impl CommonArgs {
@@ -109,6 +141,14 @@ impl CommonArgs {
             ));
         }
         let signal = match (&self.direction, &self.column, &self.signal) {
+            (Some(DirectionArg::Radial | DirectionArg::Circumferential), _, _) => {
+                return Err(Error::input(
+                    "command line",
+                    "--direction",
+                    "radial and circumferential need --per-n (the rim ring's directions); without it: \
+                     lateral, vertical, longitudinal",
+                ))
+            }
             (Some(d), _, _) => d.word().to_string(),
             (None, Some(c), _) => c.clone(),
             (None, None, Some(old)) => {
@@ -143,6 +183,76 @@ impl CommonArgs {
     }
 }
 
+impl CommonArgs {
+    /// The options of a per-n analysis (`--per-n`).
+    fn per_n_options(&self) -> Result<PerNOptions> {
+        // The shared checks (tolerances, peaks) and the inputs' protection.
+        let shared = self.options()?;
+        let direction = self.direction.unwrap_or(DirectionArg::Lateral).ring()?;
+        Ok(PerNOptions {
+            direction,
+            peaks: shared.peaks,
+            band_hz: shared.band_hz,
+            nperseg: shared.nperseg,
+            resolution_hz: shared.resolution_hz,
+            from_s: shared.from_s,
+            to_s: shared.to_s,
+            min_separation_hz: shared.min_separation_hz,
+            tolerance: shared.tolerance,
+        })
+    }
+}
+
+/// `squeal identify --per-n`: the frequency x n map and each harmonic's named peaks.
+fn run_identify_per_n(args: &IdentifyArgs) -> Result<()> {
+    let options = args.common.per_n_options()?;
+    let analysis = analyse_ring(&args.common.run_dir, &options, args.common.modes.as_deref())?;
+    print_ring_window(&analysis);
+    let md = peaks_markdown(&analysis);
+    println!("{md}");
+    let out = out_dir(
+        args.out.clone(),
+        "identify",
+        &input_name(&args.common.run_dir),
+    );
+    let stage = StagedDir::new(&out)?;
+    let dir = stage.path().to_path_buf();
+    let write = |name: &str, text: String| -> Result<()> {
+        let p = dir.join(name);
+        std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
+    };
+    let word = analysis.direction.word();
+    write(&format!("per_n_map_{word}.csv"), map_csv(&analysis))?;
+    write(&format!("per_n_peaks_{word}.csv"), peaks_csv(&analysis))?;
+    write(&format!("per_n_peaks_{word}.md"), md)?;
+    write(
+        &format!("per_n_{word}.json"),
+        serde_json::to_string_pretty(&analysis)
+            .map_err(|e| Error::Numerical(format!("JSON encoding: {e}")))?,
+    )?;
+    stage.commit(Commit::Merge)?;
+    println!(
+        "wrote {}/per_n_map_{word}.csv, per_n_peaks_{word}.{{csv,md}}, per_n_{word}.json",
+        out.display()
+    );
+    Ok(())
+}
+
+/// The ring's analysed window and spectrum, one line.
+fn print_ring_window(a: &PerNAnalysis) {
+    let w = &a.window;
+    println!(
+        "ring, {} harmonics n = 0..{} ({}): {:.2}-{:.2} ms (from {}); {}\n",
+        a.direction.word(),
+        a.spectra.len().saturating_sub(1),
+        a.direction.word(),
+        w.from_s * 1e3,
+        w.to_s * 1e3,
+        w.start_from,
+        w.spectrum
+    );
+}
+
 /// Arguments of `squeal identify`.
 #[derive(Args, Debug)]
 pub struct IdentifyArgs {
@@ -155,6 +265,9 @@ pub struct IdentifyArgs {
 
 /// Run `squeal identify`.
 pub fn run_identify(args: IdentifyArgs) -> Result<()> {
+    if args.common.per_n {
+        return run_identify_per_n(&args);
+    }
     let options = args.common.options()?;
     let analysis = analyse_run(&args.common.run_dir, &options)?;
     print_window(&analysis);
@@ -192,6 +305,10 @@ pub struct CheckModesArgs {
     /// Required mode as "nodal circles,nodal diameters" (repeatable), e.g. --require 0,3.
     #[arg(long, required = true)]
     pub require: Vec<String>,
+    /// With --per-n: how far (dB) a required mode's peak must stand above the median of its
+    /// harmonic's PSD (default fixed before any run was judged, docs/curving.md#per-n-analysis).
+    #[arg(long, default_value_t = PER_N_MARGIN_DB, requires = "per_n")]
+    pub margin_db: f64,
 }
 
 /// Run `squeal check-modes`: exit 0 only if every required mode explains a dominant peak.
@@ -201,6 +318,9 @@ pub fn run_check_modes(args: CheckModesArgs) -> Result<bool> {
         .iter()
         .map(|r| parse_required(r))
         .collect::<Result<_>>()?;
+    if args.common.per_n {
+        return check_modes_per_n(&args, &required);
+    }
     let options = args.common.options()?;
     let analysis = analyse_run(&args.common.run_dir, &options)?;
     print_window(&analysis);
@@ -231,6 +351,26 @@ pub fn run_check_modes(args: CheckModesArgs) -> Result<bool> {
         }
         Ok(false)
     }
+}
+
+/// `squeal check-modes --per-n`: each required (m, n) against its own harmonic.
+fn check_modes_per_n(args: &CheckModesArgs, required: &[(u32, u32)]) -> Result<bool> {
+    if !(args.margin_db.is_finite() && args.margin_db >= 0.0) {
+        return Err(Error::input(
+            "command line",
+            "--margin-db",
+            format!("must be a finite number >= 0, got {}", args.margin_db),
+        ));
+    }
+    let options = args.common.per_n_options()?;
+    let analysis = analyse_ring(&args.common.run_dir, &options, args.common.modes.as_deref())?;
+    print_ring_window(&analysis);
+    let outcomes = check_required(&analysis, required, args.margin_db);
+    for o in &outcomes {
+        let verdict = if o.passed { "pass" } else { "FAIL" };
+        println!("check-modes --per-n: {verdict} {}", o.reason);
+    }
+    Ok(outcomes.iter().all(|o| o.passed))
 }
 
 /// The analysed window and spectrum, one line.

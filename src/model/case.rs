@@ -179,7 +179,7 @@ pub struct OutputSpec {
     pub ring: Option<RingSpec>,
 }
 
-/// The ring of rim nodes a run records (`ring.csv`, docs/rolling.md): `nodes` equally spaced
+/// The ring of rim nodes a run records (`ring.csv`, docs/curving.md): `nodes` equally spaced
 /// nodes at one radius of the field-side rim face, their lateral, radial and circumferential
 /// velocities in the wheel's turning frame decomposed into the harmonics `n = 0..=n_max`
 /// around the circumference ([`crate::signal::ring`]).
@@ -363,8 +363,8 @@ impl RollingCase {
             limit,
         )?;
         c.require(self.lateral_motion.is_none(), "curving", || {
-            "a yawed wheelset holds its lateral position: remove lateral_motion, or remove \
-             curving (a case has either a lateral motion or an angle of attack)"
+            "a yawed wheelset holds its lateral position: a case must have either \
+             lateral_motion or curving, not both"
                 .into()
         })?;
         c.require(self.hold_forward_speed, "hold_forward_speed", || {
@@ -423,7 +423,7 @@ impl RollingCase {
             c.require(ring.nodes > 2 * ring.n_max, "output.ring.nodes", || {
                 format!(
                     "a ring resolving n = 0..={} needs at least 2 n_max + 1 = {} nodes (the \
-                     aliasing bound, docs/rolling.md), got {}",
+                     aliasing bound, docs/curving.md), got {}",
                     ring.n_max,
                     2 * ring.n_max + 1,
                     ring.nodes

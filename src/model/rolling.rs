@@ -298,9 +298,9 @@ pub fn ring_nodes(
         source,
         "output.ring.nodes",
         format!(
-            "no circle of the field-side rim face holds {count} equally spaced nodes; choose a \
-             divisor of the wheel mesh's circumferential_divisions (nodes per circle, outermost \
-             first: {})",
+            "no circle of the field-side rim face holds {count} equally spaced nodes: the count \
+             must be a divisor of the nodes on one of its circles, e.g. of the wheel mesh's \
+             circumferential_divisions (nodes per circle, outermost first: {})",
             found.join(", ")
         ),
     ))

@@ -31,6 +31,7 @@ mod preload;
 pub mod record;
 pub mod ring;
 pub mod stepping;
+pub mod wheel_frame;
 pub mod wheel_modes;
 
 use std::path::{Path, PathBuf};
@@ -193,8 +194,50 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
     // A run still writing into the folder (a resume started beside it) keeps it: checked
     // before an `--overwrite` could clear it, and held from here to the end of this run.
     crate::output::FolderLock::refuse_if_held(&opts.out_dir)?;
+    // A new or empty folder that this run fills: a run that fails before its time loop leaves
+    // it as it found it (a replaced run is put back by its `SetAside` instead).
+    let existed = opts.out_dir.exists();
+    let fresh = !opts.resume && !crate::output::has_entries(&opts.out_dir);
     let replaced = prepare_run_directory(opts)?;
-    let _claim = crate::output::FolderLock::acquire(&opts.out_dir)?;
+    let claim = crate::output::FolderLock::acquire(&opts.out_dir)?;
+    let started = start_run(loaded, &loaded_case, case, opts);
+    let (mut m, parts, run_opts, earlier) = match started {
+        Ok(s) => s,
+        Err(e) => {
+            if fresh {
+                drop(claim);
+                let _ = std::fs::remove_dir_all(&opts.out_dir);
+                if existed {
+                    let _ = std::fs::create_dir_all(&opts.out_dir);
+                }
+            }
+            return Err(e);
+        }
+    };
+    // The new run is built, preloaded and about to write its own record: the run it replaces
+    // goes now (until here, any failure put it back).
+    if let Some(old) = replaced {
+        old.discard()?;
+    }
+    let record = run_and_record(&mut m, parts, &run_opts, &opts.out_dir, earlier);
+    drop(claim);
+    record
+}
+
+/// The run up to its time loop: the wheel modes, the model, the preload and rolling start (or
+/// the resume), and the run's stepping. Returns the model, the record's parts, the engine's
+/// options and the earlier record of a resume.
+fn start_run(
+    loaded: &LoadedCase,
+    loaded_case: &LoadedCase,
+    case: RollingCase,
+    opts: &SimulateOptions,
+) -> Result<(
+    RollingModel,
+    RecordParts,
+    RunOptions,
+    Option<serde_json::Value>,
+)> {
     // The modes that label the run's peaks, before its minutes or hours of stepping.
     wheel_modes::write_run_wheel_modes(&loaded.scenario.wheel, &opts.out_dir, opts.resume)?;
     // Read before anything of the resume is written.
@@ -203,7 +246,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         .then(|| earlier_record(&opts.out_dir.join("run.json")))
         .flatten();
     let source = loaded.source.display().to_string();
-    let mut m = build_for_run(&loaded_case, &case, opts, &source)?;
+    let mut m = build_for_run(loaded_case, &case, opts, &source)?;
     let (preload, static_preload) = if !opts.resume {
         let reports = run_preload(&mut m, &case, opts, &source)?;
         start_rolling(&mut m, &case)?;
@@ -218,11 +261,6 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
     // After the preload and the prescribed motions, so that their nodes stay fine.
     let choice = stepping::choose_stepping(&m, &case.time_stepping, opts.multi_rate, &source)?;
     stepping::apply_stepping(&mut m, &choice)?;
-    // The new run is built, preloaded and about to write its own record: the run it replaces
-    // goes now (until here, any failure put it back).
-    if let Some(old) = replaced {
-        old.discard()?;
-    }
     m.contact.resuming = opts.resume;
     // The invariants are the rolling run's: the frictionless preload's steps are left out.
     m.contact.pair.reset_monitors();
@@ -235,7 +273,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
         preload,
         static_preload,
     };
-    run_and_record(&mut m, parts, &run_opts, &opts.out_dir, earlier)
+    Ok((m, parts, run_opts, earlier))
 }
 
 /// The case as this run runs it: the end time overridden by `opts` (within 1 s; later patch

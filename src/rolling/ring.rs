@@ -1,7 +1,7 @@
 //! The ring of rim nodes a run records by nodal diameter: `ring.csv` and `ring.json`.
 //!
 //! At each output sample, every ring node's deformation velocity (its velocity less the
-//! wheelset's rigid motion, [`super::output::deformation_velocity`]) is split in the wheel's
+//! wheelset's rigid motion, [`super::wheel_frame::deformation_velocity`]) is split in the wheel's
 //! turning frame into
 //! - lateral: along the axle axis `a`,
 //! - radial: along `e_r = r_perp / |r_perp|`, `r_perp` the node's position from the wheel
@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use super::output::WheelFrame;
+use super::wheel_frame::{deformation_velocity, dot3, WheelFrame};
 use crate::explicit::run::resume_csv;
 use crate::explicit::solver::OutputFields;
 use crate::mesh::P3;
@@ -168,21 +168,21 @@ impl RingRecorder {
         let axis = frame.axis;
         let centre = motion.0;
         for (k, &nd) in self.ring.nodes.iter().enumerate() {
-            let d = super::output::deformation_velocity(nd, reference, output, motion, axis);
+            let d = deformation_velocity(nd, reference, output, motion, axis);
             let r: P3 =
                 [0, 1, 2].map(|i| reference[nd][i] + output.displacement[nd][i] - centre[i]);
-            let along = dot(r, axis);
+            let along = dot3(r, axis);
             let r_perp: P3 = [0, 1, 2].map(|i| r[i] - along * axis[i]);
-            let length = dot(r_perp, r_perp).sqrt().max(f64::MIN_POSITIVE);
+            let length = dot3(r_perp, r_perp).sqrt().max(f64::MIN_POSITIVE);
             let e_r = r_perp.map(|x| x / length);
             let e_theta = [
                 axis[1] * e_r[2] - axis[2] * e_r[1],
                 axis[2] * e_r[0] - axis[0] * e_r[2],
                 axis[0] * e_r[1] - axis[1] * e_r[0],
             ];
-            self.values[0][k] = dot(d, axis);
-            self.values[1][k] = dot(d, e_r);
-            self.values[2][k] = dot(d, e_theta);
+            self.values[0][k] = dot3(d, axis);
+            self.values[1][k] = dot3(d, e_r);
+            self.values[2][k] = dot3(d, e_theta);
         }
         for dir in 0..3 {
             self.dft.transform(
@@ -220,10 +220,6 @@ impl RingRecorder {
         }
         Ok(())
     }
-}
-
-fn dot(a: P3, b: P3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// `x` in scientific notation with `digits` digits after the point (7 significant digits

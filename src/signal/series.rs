@@ -26,6 +26,12 @@ impl TimeSeries {
     /// Reads column `column` of `path`; the sample rate comes from the `time_s` column, whose
     /// steps must all equal their mean within [`UNIFORM_STEP_TOLERANCE`] (relative).
     pub fn from_csv(path: &Path, column: &str) -> Result<Self> {
+        let mut series = Self::columns_from_csv(path, &[column])?;
+        Ok(series.remove(0))
+    }
+
+    /// Reads the columns `columns` of `path` in one pass (as [`TimeSeries::from_csv`] each).
+    pub fn columns_from_csv(path: &Path, columns: &[&str]) -> Result<Vec<Self>> {
         crate::table::check_table_file(path)?;
         let source = path.display().to_string();
         let file = std::fs::File::open(path)
@@ -64,9 +70,10 @@ impl TimeSeries {
             })
         };
         let time_index = find(TIME_COLUMN)?;
-        let value_index = find(column)?;
+        let value_indices: Vec<usize> = columns.iter().map(|c| find(c)).collect::<Result<_>>()?;
 
-        let (mut times_s, mut values) = (Vec::new(), Vec::new());
+        let mut times_s = Vec::new();
+        let mut values: Vec<Vec<f64>> = vec![Vec::new(); columns.len()];
         for (row, record) in reader.records().enumerate() {
             let line = row + 2; // 1-based, after the header
             let record = record
@@ -85,16 +92,22 @@ impl TimeSeries {
                     })
             };
             times_s.push(parse(time_index, TIME_COLUMN)?);
-            values.push(parse(value_index, column)?);
+            for (k, &index) in value_indices.iter().enumerate() {
+                values[k].push(parse(index, columns[k])?);
+            }
         }
         let sample_rate_hz = uniform_sample_rate_hz(&times_s)
             .map_err(|message| Error::input(source.clone(), TIME_COLUMN, message))?;
-        Ok(TimeSeries {
-            column: column.to_string(),
-            start_time_s: times_s[0],
-            sample_rate_hz,
-            values,
-        })
+        Ok(columns
+            .iter()
+            .zip(values)
+            .map(|(column, values)| TimeSeries {
+                column: column.to_string(),
+                start_time_s: times_s[0],
+                sample_rate_hz,
+                values,
+            })
+            .collect())
     }
 
     /// Duration spanned by the samples, s.
