@@ -877,3 +877,419 @@ fn stability_against_the_explicit_demo80_runs() {
         );
     }
 }
+
+// Reduced models at a saturated curve point, solved by hand (issue 57, item 4): one wheel mode
+// on the full-sliding (Coulomb) contact with the falling friction, checked against
+// `CoupledSystem::eigen` on the same reduced input.
+
+/// (0,3)-like wheel mode: 1011.2 Hz, damping ratio 5e-5 (loss factor 1e-4 of the n >= 2 modes,
+/// `WheelDamping::default`), on a 60 kg modal mass at the contact (the hand estimate's).
+const SQUEAL_MODE_HZ: f64 = 1011.2;
+const SQUEAL_MODE_ZETA: f64 = 5e-5;
+const SQUEAL_MODE_MASS_KG: f64 = 60.0;
+/// Case 5 (data/cases/case5-demo80.json: 120 kN load, 100 km/h, 15.8 kN m driving torque,
+/// mu(v) = 0.32 + 0.18 exp(-6 s/m |v|)) at the Coulomb fixed point for eta = 1 %: xi such that
+/// the full-sliding force mu N |s_x| carries the torque's T / r = 34.35 kN, with mu and mu'
+/// taken at the slip speed V |gamma| = 0.583 m/s and iterated to a fixed point (xi = -1.845 %,
+/// mu = 0.3254, mu' = -0.0327 s/m; rounded here, the checks below use these inputs as given).
+const CASE5_NORMAL_N: f64 = 120066.0;
+const CASE5_SPEED_M_PER_S: f64 = 100.0 / 3.6;
+const CASE5_MU: f64 = 0.3254;
+const CASE5_SLOPE_S_PER_M: f64 = -0.0327;
+const CASE5_CREEPAGES: [f64; 2] = [-0.01845, 0.01];
+/// Hertz stiffness of the case's contact (k_H = 3N / 2 delta = 2.0e9 N/m). The reduced models
+/// move the contact only in its plane, so it does not enter.
+const HERTZ_N_PER_M: f64 = 2.0e9;
+
+/// The saturated (Coulomb) contact's damping in the contact plane (t1, t2), derived here and
+/// not read from `TangentialLaw::linear_contact`: the creep force on the wheel is `F = -mu(|w|)
+/// N w / |w|` with `w = V gamma + d_t'` the slip velocity (Kalker's creepage times the rolling
+/// speed plus the contact's own tangential velocity), so `dF/dd_t' = -C` with
+///
+/// ```text
+/// C = (mu N / v) (I - s s^T) + N mu' s s^T,   v = V |gamma|,   s = gamma / |gamma|:
+/// ```
+///
+/// across the slip the creep damping `mu N / v` (> 0, the force turning with the slip), along
+/// it the falling friction `N mu'` (< 0 where mu falls with the slip speed). In particular
+/// `c22 = mu N s_x^2 / v + N mu' s_y^2` (lateral) and `c11 = mu N s_y^2 / v + N mu' s_x^2`.
+fn saturated_slip_damping(
+    normal_n: f64,
+    speed_m_per_s: f64,
+    creepages: [f64; 2],
+    mu: f64,
+    slope_s_per_m: f64,
+) -> [[f64; 2]; 2] {
+    let g = creepages[0].hypot(creepages[1]);
+    let s = [creepages[0] / g, creepages[1] / g];
+    let across = mu * normal_n / (speed_m_per_s * g);
+    let along = normal_n * slope_s_per_m;
+    std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            across * ((i == j) as u8 as f64 - s[i] * s[j]) + along * s[i] * s[j]
+        })
+    })
+}
+
+/// The library's Coulomb law at `creepages` with the falling-friction slope set.
+fn saturated_law(normal_n: f64, creepages: [f64; 2], mu: f64, slope_s_per_m: f64) -> TangentialLaw {
+    let mut law =
+        TangentialLaw::coulomb(normal_n, HERTZ_N_PER_M, CASE5_SPEED_M_PER_S, creepages, mu)
+            .unwrap();
+    law.friction_slope_s_per_m = slope_s_per_m;
+    law
+}
+
+/// Wheel coordinates on rigid ground (empty rail) through `law` at contact angle 0 (t1 = x,
+/// t2 = y, n = z).
+fn on_rigid_ground(dofs: Vec<ModalDof>, law: &TangentialLaw) -> CoupledSystem {
+    CoupledSystem {
+        wheel: ModalBody {
+            dofs,
+            ..ModalBody::default()
+        },
+        rail: ModalBody::default(),
+        contact: law.linear_contact(&ContactFrame::wheel_rail(0.0)),
+    }
+}
+
+fn assert_relative(got: f64, want: f64, tolerance: f64, what: &str) {
+    assert!(
+        (got / want - 1.0).abs() < tolerance,
+        "{what}: {got} vs {want} (relative {:e})",
+        got / want - 1.0
+    );
+}
+
+/// One wheel coordinate at the case-5 saturated point, slip oblique (the torque's longitudinal
+/// creepage -1.845 % dominates the lateral 1 %: s = (-0.8792, 0.4765), v = 0.58294 m/s).
+/// A unit-modal-mass coordinate whose contact shape is `phi` along one contact-plane axis has
+/// the physical equation `m x'' + (c0 + c_ii) x' + k x = 0` (`m = 1 / phi^2`, `k = m w^2`, `c0
+/// = 2 zeta m w`, `c_ii` the diagonal of `C`, [`saturated_slip_damping`]): the roots are
+/// exactly `sigma = -(c0 + c_ii) / 2m`, `omega_d = sqrt(w^2 - sigma^2)` (underdamped). Hand
+/// solution (mpmath, 40 digits; c0 = 38.1213 N s/m):
+///
+/// * lateral, shape [0, 1/sqrt(60), 0]: c22 = mu N s_x^2 / v + N mu' s_y^2 = 51803.39 - 891.49
+///   = 50911.895 N s/m, sigma = -424.583473 /s, omega_d = 6339.354479 rad/s;
+/// * longitudinal, shape [1/sqrt(60), 0, 0]: c11 = mu N s_y^2 / v + N mu' s_x^2 = 12183.610 N
+///   s/m, sigma = -101.847761 /s, omega_d = 6352.740618 rad/s.
+///
+/// Verdict: the analysis is right where the torque dominates. The slip is then mostly
+/// longitudinal, the lateral direction sees mostly the creep damping mu N / v of a force that
+/// turns with the slip, and the falling friction's N mu' (-3.9 kN s/m at v = 0.58 m/s) enters
+/// only with s_y^2 = 0.23: a lateral (axial) mode is damped, not driven.
+#[test]
+fn oblique_saturated_slip_damps_a_single_wheel_mode_at_the_closed_form_rate() {
+    let m = SQUEAL_MODE_MASS_KG;
+    let omega = std::f64::consts::TAU * SQUEAL_MODE_HZ;
+    let c0 = 2.0 * SQUEAL_MODE_ZETA * m * omega;
+    let c = saturated_slip_damping(
+        CASE5_NORMAL_N,
+        CASE5_SPEED_M_PER_S,
+        CASE5_CREEPAGES,
+        CASE5_MU,
+        CASE5_SLOPE_S_PER_M,
+    );
+    let law = saturated_law(
+        CASE5_NORMAL_N,
+        CASE5_CREEPAGES,
+        CASE5_MU,
+        CASE5_SLOPE_S_PER_M,
+    );
+    let phi = 1.0 / m.sqrt();
+    // (direction, shape, contact damping along it, hand solution sigma and omega_d).
+    let cases = [
+        (
+            "lateral",
+            [0.0, phi, 0.0],
+            c[1][1],
+            -424.58347331727,
+            6339.3544786189,
+        ),
+        (
+            "longitudinal",
+            [phi, 0.0, 0.0],
+            c[0][0],
+            -101.84776108251,
+            6352.740618423,
+        ),
+    ];
+    // The closed form in f64 against the hand solution's digits: a few roundings (1e-15) and
+    // the 14 digits written (1e-13); 1e-11.
+    assert_relative(c[1][1], 50911.8954562, 1e-11, "c22");
+    assert_relative(c[0][0], 12183.609988, 1e-10, "c11");
+    for (direction, shape, c_ii, sigma_ref, omega_ref) in cases {
+        let sigma = -(c0 + c_ii) / (2.0 * m);
+        assert_relative(sigma, sigma_ref, 1e-11, direction);
+        assert_relative(
+            (omega * omega - sigma * sigma).sqrt(),
+            omega_ref,
+            1e-11,
+            direction,
+        );
+        let system = on_rigid_ground(
+            vec![dof(Body::Wheel, 0, omega, SQUEAL_MODE_ZETA, shape)],
+            &law,
+        );
+        let eig = system.eigen().unwrap();
+        assert_eq!(eig.len(), 1, "{direction}: one underdamped pair");
+        println!(
+            "{direction}: eigen {:+.9} /s at {:.7} rad/s; hand {sigma_ref:+.9} /s at {omega_ref:.7} rad/s",
+            eig[0].growth_rate_per_s, eig[0].omega_rad_per_s
+        );
+        // The roots are exact for one underdamped coordinate, so only the QR's rounding
+        // separates them: eps |A| kappa = 2e-12 /s on the 2 x 2 state matrix (|A| = 9e3 /s,
+        // kappa 1.002), 5e-15 of sigma; 1e-9 as for the falling-friction oscillator above.
+        assert_relative(eig[0].growth_rate_per_s, sigma_ref, 1e-9, direction);
+        assert_relative(eig[0].omega_rad_per_s, omega_ref, 1e-9, direction);
+    }
+}
+
+/// The hand estimate's regime: the same coordinate and law, slip purely lateral (creepages [0,
+/// 0.01], the lateral creepage alone: v = V eta = 0.278 m/s, where mu' = -1.08 exp(-1.67) =
+/// -0.204 s/m, rounded to -0.2). Along the slip the contact damping is N mu' = -24013.2 N s/m
+/// (the creep damping mu N / v acts across it, on the longitudinal motion), so `60 x'' + (c0 +
+/// N mu') x' + k x = 0`: sigma = -(38.1213 - 24013.2) / 120 = +199.792322 /s, omega_d =
+/// 6350.414897 rad/s.
+///
+/// Verdict: with a purely lateral slip the falling friction destabilises at +200 /s on a 60 kg
+/// modal mass; it is the torque's longitudinal creepage (the test above) that turns the slip
+/// away from the lateral direction and takes this drive off a lateral mode.
+#[test]
+fn purely_lateral_saturated_slip_with_falling_friction_grows_at_minus_c0_plus_n_slope_over_2m() {
+    let m = SQUEAL_MODE_MASS_KG;
+    let omega = std::f64::consts::TAU * SQUEAL_MODE_HZ;
+    let c0 = 2.0 * SQUEAL_MODE_ZETA * m * omega;
+    let (creepages, slope) = ([0.0, 0.01], -0.2);
+    let c = saturated_slip_damping(
+        CASE5_NORMAL_N,
+        CASE5_SPEED_M_PER_S,
+        creepages,
+        CASE5_MU,
+        slope,
+    );
+    assert_relative(c[1][1], CASE5_NORMAL_N * slope, 1e-14, "c22 = N mu'");
+    let (sigma_ref, omega_ref) = (199.79232215087, 6350.4148966354);
+    assert_relative(-(c0 + c[1][1]) / (2.0 * m), sigma_ref, 1e-11, "closed form");
+    let law = saturated_law(CASE5_NORMAL_N, creepages, CASE5_MU, slope);
+    let system = on_rigid_ground(
+        vec![dof(
+            Body::Wheel,
+            0,
+            omega,
+            SQUEAL_MODE_ZETA,
+            [0.0, 1.0 / m.sqrt(), 0.0],
+        )],
+        &law,
+    );
+    let eig = system.eigen().unwrap();
+    assert_eq!(eig.len(), 1);
+    println!(
+        "purely lateral slip: eigen {:+.9} /s at {:.7} rad/s; hand {sigma_ref:+.9} /s",
+        eig[0].growth_rate_per_s, eig[0].omega_rad_per_s
+    );
+    // Exact roots again: the QR's eps |A| kappa is 1e-14 of sigma; 1e-9.
+    assert_relative(eig[0].growth_rate_per_s, sigma_ref, 1e-9, "growth");
+    assert_relative(eig[0].omega_rad_per_s, omega_ref, 1e-9, "frequency");
+}
+
+/// A series contact spring: the falling-friction dashpot `c = N mu'` does not act on the wheel
+/// directly but through a tangential spring k_c (the contact's tangential compliance). Reduced
+/// model: wheel mass m (the (0,3)-like coordinate, lateral) -- dashpot c -- node of mass m_r
+/// -- spring k_c -- ground, the node a "rail" coordinate of unit modal mass with shape [0,
+/// 1/sqrt(m_r), 0], omega_r = sqrt(k_c / m_r), undamped (m_r = 1 g: light enough that the
+/// root moves by 6e-4 from the massless node's; the hand solution keeps m_r, so that is no
+/// error). Coulomb law at N = 120 kN, slip purely lateral ([0, 0.01]), mu 0.4, mu' = -0.2
+/// s/m: c22 = N mu' = -24 kN s/m, and c11 = mu N / v acts only on x, which neither coordinate
+/// has; the Hertz spring (normal) does not enter. Hand solution: the roots of
+///
+/// ```text
+/// det [[m s^2 + (c0 + c) s + k, -c s], [-c s, m_r s^2 + c s + k_c]] = 0    (a quartic)
+/// ```
+///
+/// (mpmath, 40 digits, by its polynomial roots and by the eigenvalues of the 4 x 4 matrix):
+///
+/// * k_c = 1e8 N/m: 59.080903753 + 6445.884786803i; the massless node (the cubic `c m s^3 +
+///   (k_c m + c c0) s^2 + (k c + k_c (c0 + c)) s + k k_c = 0`) gives 59.1162 + 6445.900i;
+/// * k_c = 1.6e9 N/m (Mindlin's full-stick tangential stiffness 4 G sqrt(ab) / (2 - nu) of the
+///   case's Hertz patch, a = 5.8 mm, b = 12.1 mm): 199.051118667 + 6369.534180563i; massless
+///   199.0512;
+/// * against the rigid contact's -(c0 + c) / 2m = +199.682 /s: the spring cuts the effective
+///   dashpot to c / (1 + (c w / k_c)^2) to first order, 30 % of it at 1e8 N/m.
+///
+/// Two real positive roots come with them, which `eigen` keeps as divergences: one near k_c /
+/// |c| (4048 /s and 66452 /s: the node on its spring against the negative dashpot, the
+/// massless model's own real root) and one near |c| / m_r (2.4e7 /s, the light node's).
+/// Asserted: the oscillating root only, the one nearest the wheel mode's frequency.
+///
+/// Verdict: the analysis couples the contact through a series compliance correctly; at the
+/// contact's own tangential stiffness the spring leaves the falling-friction growth nearly
+/// unchanged (199.05 against 199.68 /s), so leaving it out of the model does not hide the
+/// hand estimate's instability.
+#[test]
+fn series_contact_spring_reduces_the_falling_friction_growth_of_a_wheel_mode() {
+    let m = SQUEAL_MODE_MASS_KG;
+    let omega = std::f64::consts::TAU * SQUEAL_MODE_HZ;
+    let rail_mass_kg: f64 = 1.0e-3;
+    let (normal_n, creepages, mu, slope) = (120000.0, [0.0, 0.01], 0.4, -0.2);
+    let c = saturated_slip_damping(normal_n, CASE5_SPEED_M_PER_S, creepages, mu, slope);
+    assert_relative(c[1][1], -24000.0, 1e-14, "c22 = N mu'");
+    assert!(c[0][1] == 0.0 && c[1][0] == 0.0);
+    let law = saturated_law(normal_n, creepages, mu, slope);
+    for (spring_n_per_m, sigma_ref, omega_ref) in [
+        (1.0e8, 59.080903753431, 6445.8847868029),
+        (1.6e9, 199.05111866668, 6369.5341805626),
+    ] {
+        let system = CoupledSystem {
+            wheel: ModalBody {
+                dofs: vec![dof(
+                    Body::Wheel,
+                    0,
+                    omega,
+                    SQUEAL_MODE_ZETA,
+                    [0.0, 1.0 / m.sqrt(), 0.0],
+                )],
+                ..ModalBody::default()
+            },
+            rail: ModalBody {
+                dofs: vec![dof(
+                    Body::Rail,
+                    0,
+                    (spring_n_per_m / rail_mass_kg).sqrt(),
+                    0.0,
+                    [0.0, 1.0 / rail_mass_kg.sqrt(), 0.0],
+                )],
+                ..ModalBody::default()
+            },
+            contact: law.linear_contact(&ContactFrame::wheel_rail(0.0)),
+        };
+        let eig = system.eigen().unwrap();
+        for e in &eig {
+            println!(
+                "k_c {spring_n_per_m:.1e} N/m: {:+.9} /s at {:.7} rad/s",
+                e.growth_rate_per_s, e.omega_rad_per_s
+            );
+        }
+        let mode = eig
+            .iter()
+            .filter(|e| e.omega_rad_per_s > 0.0)
+            .min_by(|a, b| {
+                (a.omega_rad_per_s - omega)
+                    .abs()
+                    .total_cmp(&(b.omega_rad_per_s - omega).abs())
+            })
+            .unwrap();
+        // The state matrix holds the node's |c| / m_r = 2.4e7 /s, so the QR's rounding is
+        // eps |A| kappa = 5e-9 /s (kappa 1.01 for this root), 1e-10 of sigma at 1e8 N/m;
+        // 1e-8 is a hundred times that.
+        assert_relative(mode.growth_rate_per_s, sigma_ref, 1e-8, "growth");
+        assert_relative(mode.omega_rad_per_s, omega_ref, 1e-8, "frequency");
+    }
+}
+
+/// A degenerate pair at the case-5 saturated point (the law of the oblique-slip test): two
+/// wheel coordinates at 1011.2 Hz with the same damping, one lateral (shape [0, 1/sqrt(60),
+/// 0]), one longitudinal (shape [1/sqrt(600), 0, 0], the companion moving the contact
+/// circumferentially with ten times the modal mass). With equal frequencies and damping ratios
+/// the equations are `q'' + (2 zeta w I + D) q' + w^2 q = 0`, `D = Phi^T C Phi` (symmetric), so
+/// the eigenvectors of D decouple them exactly: each eigenvalue lambda_i of D gives `sigma_i =
+/// -(2 zeta w + lambda_i) / 2`, `omega_d = sqrt(w^2 - sigma_i^2)`. C has the eigenvalues mu N /
+/// v > 0 and N mu' < 0 (det C = -2.631e8), so D has a negative one: a combination of the two
+/// coordinates moving the contact along the slip. Hand solution (mpmath, 40 digits):
+/// +3.848775066 /s at 6353.555816890 rad/s and -438.902934556 /s at 6338.379173372 rad/s.
+///
+/// Verdict: the analysis is right where the torque dominates for a single lateral mode, but
+/// an n >= 1 wheel mode's pair of companions can still combine into a motion along the slip
+/// and grow (slowly, +3.85 /s here): the falling friction is not removed, only weighted by
+/// the modal masses along the slip.
+#[test]
+fn degenerate_wheel_mode_pair_grows_along_the_slip_where_one_lateral_mode_is_damped() {
+    let omega = std::f64::consts::TAU * SQUEAL_MODE_HZ;
+    let (m_y, m_x) = (SQUEAL_MODE_MASS_KG, 600.0);
+    let c = saturated_slip_damping(
+        CASE5_NORMAL_N,
+        CASE5_SPEED_M_PER_S,
+        CASE5_CREEPAGES,
+        CASE5_MU,
+        CASE5_SLOPE_S_PER_M,
+    );
+    // D in the coordinates (lateral, longitudinal) and its eigenvalues (2 x 2 symmetric).
+    let (a, b, d) = (c[1][1] / m_y, c[0][1] / (m_x * m_y).sqrt(), c[0][0] / m_x);
+    let mean = 0.5 * (a + d);
+    let half = (0.25 * (a - d).powi(2) + b * b).sqrt();
+    let modal_damping_per_s = 2.0 * SQUEAL_MODE_ZETA * omega;
+    let growing_ref = (3.8487750663368, 6353.5558168895);
+    let decaying_ref = (-438.90293455608, 6338.3791733721);
+    // The closed form in f64: the growing root is a difference of 434 and 443 /s, so its
+    // rounding is 1e-16 x 443 / 3.85 = 1e-14 relative; 1e-11.
+    assert_relative(
+        -(modal_damping_per_s + (mean - half)) / 2.0,
+        growing_ref.0,
+        1e-11,
+        "closed form +",
+    );
+    assert_relative(
+        -(modal_damping_per_s + (mean + half)) / 2.0,
+        decaying_ref.0,
+        1e-11,
+        "closed form -",
+    );
+    let law = saturated_law(
+        CASE5_NORMAL_N,
+        CASE5_CREEPAGES,
+        CASE5_MU,
+        CASE5_SLOPE_S_PER_M,
+    );
+    let system = on_rigid_ground(
+        vec![
+            dof(
+                Body::Wheel,
+                0,
+                omega,
+                SQUEAL_MODE_ZETA,
+                [0.0, 1.0 / m_y.sqrt(), 0.0],
+            ),
+            dof(
+                Body::Wheel,
+                1,
+                omega,
+                SQUEAL_MODE_ZETA,
+                [1.0 / m_x.sqrt(), 0.0, 0.0],
+            ),
+        ],
+        &law,
+    );
+    let eig = system.eigen().unwrap();
+    assert_eq!(eig.len(), 2, "two underdamped pairs");
+    let growing = eig
+        .iter()
+        .max_by(|p, q| p.growth_rate_per_s.total_cmp(&q.growth_rate_per_s))
+        .unwrap();
+    let decaying = eig
+        .iter()
+        .min_by(|p, q| p.growth_rate_per_s.total_cmp(&q.growth_rate_per_s))
+        .unwrap();
+    println!(
+        "degenerate pair: {:+.9} /s at {:.7} rad/s, {:+.9} /s at {:.7} rad/s",
+        growing.growth_rate_per_s,
+        growing.omega_rad_per_s,
+        decaying.growth_rate_per_s,
+        decaying.omega_rad_per_s
+    );
+    // Exact roots; the QR's eps |A| kappa is 3e-12 /s (|A| = 1.3e4 /s, kappa 1.0), 7e-13 of
+    // the smaller sigma; 1e-9.
+    assert_relative(growing.growth_rate_per_s, growing_ref.0, 1e-9, "growing");
+    assert_relative(
+        growing.omega_rad_per_s,
+        growing_ref.1,
+        1e-9,
+        "growing frequency",
+    );
+    assert_relative(decaying.growth_rate_per_s, decaying_ref.0, 1e-9, "decaying");
+    assert_relative(
+        decaying.omega_rad_per_s,
+        decaying_ref.1,
+        1e-9,
+        "decaying frequency",
+    );
+}

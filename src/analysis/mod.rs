@@ -8,10 +8,12 @@
 //!   nodal diameters gated by the rim ratio).
 //! - [`per_n`]: the rim ring's spectra per nodal diameter (a frequency x n map), each
 //!   harmonic's peaks named from the modes of its n, and the per-n check of required modes.
+//! - [`creep_check`]: a yawed wheelset's quasi-steady creep forces against Kalker's exact theory.
 //! - [`growth`]: wavelet-ridge amplitude and growth rate per mode band and time window.
 //!
 //! It reads run directories and mode files and never draws: `report` renders what it returns.
 
+pub mod creep_check;
 pub mod growth;
 pub mod identify;
 pub mod per_n;

@@ -100,4 +100,3 @@ pub(super) fn deformation_velocity(
     let v = output.velocity[nd];
     [0, 1, 2].map(|i| v[i] - vc[i] - omega * spin[i])
 }
-

@@ -149,7 +149,11 @@ pub fn from_case(
         Some(LateralMotion::Ramp(r)) if r.velocity_m_per_s < 0.0 => -1.0,
         _ => 1.0,
     };
-    let eta = eta.unwrap_or(sign * DEFAULT_ETA);
+    // A yawed wheelset slides sideways at sin(psi) (towards the field side for psi > 0).
+    let eta = eta.unwrap_or(match case.curving {
+        Some(c) => c.angle_of_attack_rad().sin(),
+        None => sign * DEFAULT_ETA,
+    });
     let phi = -angle.to_radians().sin() / radius;
     let hertz =
         HertzContact::from_curvatures(curvature[0], curvature[1], normal_force_n, material)?;
@@ -189,6 +193,92 @@ pub fn from_case(
         wheel_x_m: loaded.scenario.scenario.wheel_position.x_m,
         kalker_note: "longitudinal creepage for F_x = T / R at the given eta".into(),
     })
+}
+
+/// Where the contact of a run sample sits: wheel S (mm), rail y (m), contact angle (deg), the
+/// profiles' Hertz curvatures there, and a note when they are the rigid profiles' (a run
+/// without the contact position columns).
+#[allow(clippy::type_complexity)]
+fn sample_geometry(
+    loaded: &LoadedCase,
+    sample: &RunSample,
+    nominal_radius_m: f64,
+) -> Result<(f64, f64, f64, [f64; 2], &'static str)> {
+    Ok(match sample.contact {
+        Some((s_mm, rail_y, angle)) => {
+            // Curvatures of the profiles at the run's contact point (the wheel's tape circle
+            // then at rail y - S); the rigid profiles' own contact point where that gap is not
+            // Hertzian.
+            let wheel_y_m = rail_y - s_mm * 1e-3;
+            let curvature = match crate::kalker::geometry::curvatures_at(
+                nominal_radius_m,
+                |y| profiles::wheel_radius_offset_m(y, wheel_y_m),
+                |y| profiles::rail_top_height_m(y).unwrap_or(f64::NAN),
+                rail_y,
+                5e-4,
+            ) {
+                Ok((a, b)) => [a, b],
+                Err(_) => profile_geometry(wheel_y_m, nominal_radius_m)?.3,
+            };
+            (s_mm, rail_y, angle, curvature, "")
+        }
+        None => {
+            let wheel_y_m = loaded.scenario.scenario.wheel_position.tape_circle_y_mm * 1e-3
+                + sample.wheel_y_displacement_m;
+            let (rail_y, s_mm, angle, curvature) = profile_geometry(wheel_y_m, nominal_radius_m)?;
+            (
+                s_mm,
+                rail_y,
+                angle,
+                curvature,
+                "; contact point of the rigid profiles (the run has no contact position columns)",
+            )
+        }
+    })
+}
+
+/// Kalker's exact creep forces for a run sample at the lateral creepage `eta`: the sample's
+/// normal force, the profiles' curvatures and the spin `-sin(angle) / R` at its contact
+/// point, and the longitudinal creepage that gives the sample's longitudinal creep force
+/// (bisection), with the case's friction law at the rigid slip speed (a fixed point for
+/// falling friction). Returns the creepages, the forces (Fx, Fy) and mu.
+pub fn kalker_forces_at_sample(
+    loaded: &LoadedCase,
+    sample: &RunSample,
+    nominal_radius_m: f64,
+    material: Material,
+    eta: f64,
+) -> Result<(Creepages, [f64; 2], f64)> {
+    let source = sample.run_dir.display().to_string();
+    let (s_mm, _, angle, curvature, _) = sample_geometry(loaded, sample, nominal_radius_m)?;
+    let radius = nominal_radius_m + crate::geometry::s1002::height_mm(s_mm) * 1e-3;
+    let speed = loaded.case.speed_km_per_h / 3.6;
+    let phi = -angle.to_radians().sin() / radius;
+    let hertz =
+        HertzContact::from_curvatures(curvature[0], curvature[1], sample.normal_force_n, material)?;
+    let (mut mu, _) = friction_at(&loaded.case.friction, 0.0);
+    let mut out = None;
+    for _ in 0..50 {
+        let solver = RollingSolver::new(&hertz, mu, Method::Exact, KALKER_ELEMENTS)?;
+        let (xi, forces) =
+            longitudinal_creepage(&solver, sample.creep_force_n[0], eta, phi, &source)?;
+        let (m, _) = friction_at(&loaded.case.friction, speed * xi.hypot(eta));
+        let converged = (m - mu).abs() <= 1e-9;
+        out = Some((
+            Creepages {
+                xi,
+                eta,
+                phi_per_m: phi,
+            },
+            forces,
+            mu,
+        ));
+        mu = m;
+        if converged {
+            break;
+        }
+    }
+    out.ok_or_else(|| Error::Numerical("no Kalker solution".into()))
 }
 
 /// The longitudinal creepage at which `F_x(xi, eta) = fx_target` (bisection on the monotone
@@ -352,37 +442,8 @@ pub fn from_run_sample(
     let normal_force_n = sample.normal_force_n;
     let [fx, fy] = sample.creep_force_n;
     let wheel_x_m = sample.wheel_x_m;
-    let (s_mm, rail_y, angle, curvature, geometry_note) = match sample.contact {
-        Some((s_mm, rail_y, angle)) => {
-            // Curvatures of the profiles at the run's contact point (the wheel's tape circle
-            // then at rail y - S); the rigid profiles' own contact point where that gap is not
-            // Hertzian.
-            let wheel_y_m = rail_y - s_mm * 1e-3;
-            let curvature = match crate::kalker::geometry::curvatures_at(
-                nominal_radius_m,
-                |y| profiles::wheel_radius_offset_m(y, wheel_y_m),
-                |y| profiles::rail_top_height_m(y).unwrap_or(f64::NAN),
-                rail_y,
-                5e-4,
-            ) {
-                Ok((a, b)) => [a, b],
-                Err(_) => profile_geometry(wheel_y_m, nominal_radius_m)?.3,
-            };
-            (s_mm, rail_y, angle, curvature, "")
-        }
-        None => {
-            let wheel_y_m = loaded.scenario.scenario.wheel_position.tape_circle_y_mm * 1e-3
-                + sample.wheel_y_displacement_m;
-            let (rail_y, s_mm, angle, curvature) = profile_geometry(wheel_y_m, nominal_radius_m)?;
-            (
-                s_mm,
-                rail_y,
-                angle,
-                curvature,
-                "; contact point of the rigid profiles (the run has no contact position columns)",
-            )
-        }
-    };
+    let (s_mm, rail_y, angle, curvature, geometry_note) =
+        sample_geometry(loaded, sample, nominal_radius_m)?;
     let radius = nominal_radius_m + crate::geometry::s1002::height_mm(s_mm) * 1e-3;
     let speed = loaded.case.speed_km_per_h / 3.6;
     let phi = -angle.to_radians().sin() / radius;
