@@ -192,7 +192,10 @@ fn yawed_demo_wheel_creep_forces_against_kalker() {
             failures.push(format!("{psi_mrad} mrad: not quasi-steady"));
         }
         if psi_mrad < 5.0 && (c.lateral_ratio - 1.0).abs() > 0.10 {
-            failures.push(format!("{psi_mrad} mrad: Fy run / Kalker {:.3}", c.lateral_ratio));
+            failures.push(format!(
+                "{psi_mrad} mrad: Fy run / Kalker {:.3}",
+                c.lateral_ratio
+            ));
         }
         if psi_mrad >= 5.0 && c.saturation < 0.97 {
             failures.push(format!("{psi_mrad} mrad: |F| / (mu N) {:.3}", c.saturation));
