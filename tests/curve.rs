@@ -113,7 +113,7 @@ fn the_per_n_analysis_reads_the_ring_of_a_short_curve_run() {
         direction: RingDirection::Radial,
         ..Default::default()
     };
-    let a = analyse_ring(&dir, &options, None).unwrap();
+    let a = analyse_ring(&dir, &options).unwrap();
     assert_eq!(a.spectra.len(), 9, "n = 0..8");
     assert!(a.spectra.iter().all(|s| s.median_in_band > 0.0));
     // Every named peak carries a mode of its own n.

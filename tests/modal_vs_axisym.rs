@@ -15,23 +15,13 @@
 //! Bounds: measured plus ~0.4-0.6 percentage points (2 % for (0,n), 3.5 % for the others): the
 //! margin admits small mesh-generator changes, and the standard element exceeds the bounds.
 use std::path::Path;
-use std::process::Command;
+
+mod common;
 
 use squeal::analysis::identify::{ModeFamily, ModeRef};
 
 fn modes(args: &[&str], out: &Path) -> Vec<ModeRef> {
-    let status = Command::new(env!("CARGO_BIN_EXE_squeal"))
-        .args(args)
-        .arg("--out")
-        .arg(out)
-        .output()
-        .unwrap();
-    assert!(
-        status.status.success(),
-        "{}",
-        String::from_utf8_lossy(&status.stderr)
-    );
-    squeal::input::read_json(&out.join("modes.json")).unwrap()
+    common::squeal_modes(args, out)
 }
 
 /// The lowest axial mode with `m` nodal circles and `n` nodal diameters.

@@ -901,6 +901,17 @@ const CASE5_CREEPAGES: [f64; 2] = [-0.01845, 0.01];
 /// move the contact only in its plane, so it does not enter.
 const HERTZ_N_PER_M: f64 = 2.0e9;
 
+/// [`saturated_slip_damping`] at the case 5 point.
+fn case5_slip_damping() -> [[f64; 2]; 2] {
+    saturated_slip_damping(
+        CASE5_NORMAL_N,
+        CASE5_SPEED_M_PER_S,
+        CASE5_CREEPAGES,
+        CASE5_MU,
+        CASE5_SLOPE_S_PER_M,
+    )
+}
+
 /// The saturated (Coulomb) contact's damping in the contact plane (t1, t2), derived here and
 /// not read from `TangentialLaw::linear_contact`: the creep force on the wheel is `F = -mu(|w|)
 /// N w / |w|` with `w = V gamma + d_t'` the slip velocity (Kalker's creepage times the rolling
@@ -983,13 +994,7 @@ fn oblique_saturated_slip_damps_a_single_wheel_mode_at_the_closed_form_rate() {
     let m = SQUEAL_MODE_MASS_KG;
     let omega = std::f64::consts::TAU * SQUEAL_MODE_HZ;
     let c0 = 2.0 * SQUEAL_MODE_ZETA * m * omega;
-    let c = saturated_slip_damping(
-        CASE5_NORMAL_N,
-        CASE5_SPEED_M_PER_S,
-        CASE5_CREEPAGES,
-        CASE5_MU,
-        CASE5_SLOPE_S_PER_M,
-    );
+    let c = case5_slip_damping();
     let law = saturated_law(
         CASE5_NORMAL_N,
         CASE5_CREEPAGES,
@@ -1206,13 +1211,7 @@ fn series_contact_spring_reduces_the_falling_friction_growth_of_a_wheel_mode() {
 fn degenerate_wheel_mode_pair_grows_along_the_slip_where_one_lateral_mode_is_damped() {
     let omega = std::f64::consts::TAU * SQUEAL_MODE_HZ;
     let (m_y, m_x) = (SQUEAL_MODE_MASS_KG, 600.0);
-    let c = saturated_slip_damping(
-        CASE5_NORMAL_N,
-        CASE5_SPEED_M_PER_S,
-        CASE5_CREEPAGES,
-        CASE5_MU,
-        CASE5_SLOPE_S_PER_M,
-    );
+    let c = case5_slip_damping();
     // D in the coordinates (lateral, longitudinal) and its eigenvalues (2 x 2 symmetric).
     let (a, b, d) = (c[1][1] / m_y, c[0][1] / (m_x * m_y).sqrt(), c[0][0] / m_x);
     let mean = 0.5 * (a + d);

@@ -20,9 +20,10 @@
 //! comment).
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::process::Command;
 
 use squeal::analysis::identify::{ModeFamily, ModeRef};
+
+mod common;
 use squeal::explicit::{ElasticMaterial, Formulation, Model, Solver};
 use squeal::input::wheel::WheelSpec;
 use squeal::mesh::material;
@@ -37,24 +38,8 @@ const N_MAX: usize = 10;
 
 /// The free wheel's modes from the axisymmetric solver.
 fn axisym_modes(out: &Path) -> Vec<ModeRef> {
-    let status = Command::new(env!("CARGO_BIN_EXE_squeal"))
-        .args([
-            "axisym",
-            "--wheel",
-            "data/wheels/ns_intercity_920.json",
-            "--clamp",
-            "none",
-            "--out",
-        ])
-        .arg(out)
-        .output()
-        .unwrap();
-    assert!(
-        status.status.success(),
-        "{}",
-        String::from_utf8_lossy(&status.stderr)
-    );
-    squeal::modal::mode::read_modes_json(&out.join("modes.json")).unwrap()
+    let wheel = "data/wheels/ns_intercity_920.json";
+    common::squeal_modes(&["axisym", "--wheel", wheel, "--clamp", "none"], out)
 }
 
 /// The lateral harmonics `c_n(t)`, `s_n(t)` of the struck free wheel's ring, and their sample

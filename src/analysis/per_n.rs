@@ -25,8 +25,8 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use crate::analysis::identify::{ModeFamily, ModeRef, Tolerance};
-use crate::analysis::run::{window_range, AnalysisWindow, DEFAULT_FMAX_HZ, DEFAULT_RESOLUTION_HZ};
+use crate::analysis::identify::{ModeFamily, ModeRef};
+use crate::analysis::run::{window_range, AnalysisOptions, AnalysisWindow, DEFAULT_FMAX_HZ};
 use crate::signal::resolution::{describe, welch_for_resolution};
 use crate::signal::{find_spectral_peaks, welch, PeakSearch, TimeSeries};
 use crate::{Error, Result};
@@ -45,10 +45,11 @@ pub const PER_N_MARGIN_DB: f64 = 10.0;
 pub const REQUIRED_WINDOW: f64 = 0.05;
 
 /// A direction of the ring's motion.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum RingDirection {
     /// Along the axle (out of the wheel's plane).
+    #[default]
     Lateral,
     /// Away from the axle, in the wheel's plane.
     Radial,
@@ -76,43 +77,15 @@ impl RingDirection {
     }
 }
 
-/// Options of the per-n analysis.
-#[derive(Clone, Debug, Serialize)]
+/// Options of the per-n analysis: the direction of the ring's motion, and the spectrum,
+/// window, peak and tolerance settings of [`AnalysisOptions`] (its `signal` is not used; its
+/// `modes_file` names the modes instead of the run's `modes.json`).
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct PerNOptions {
     /// Direction of the ring's motion.
     pub direction: RingDirection,
-    /// Peaks per harmonic.
-    pub peaks: usize,
-    /// Band (Hz); an infinite upper edge: [`DEFAULT_FMAX_HZ`] or the Nyquist frequency.
-    pub band_hz: (f64, f64),
-    /// Welch segment length (None: chosen for the resolution).
-    pub nperseg: Option<usize>,
-    /// Largest bin spacing (Hz).
-    pub resolution_hz: f64,
-    /// Window start (s; None: the first sample).
-    pub from_s: Option<f64>,
-    /// Window end (s; None: the last sample).
-    pub to_s: Option<f64>,
-    /// Peaks closer than this keep only the more prominent (Hz).
-    pub min_separation_hz: f64,
-    /// Matching tolerance of the peaks' names.
-    pub tolerance: Tolerance,
-}
-
-impl Default for PerNOptions {
-    fn default() -> Self {
-        PerNOptions {
-            direction: RingDirection::Lateral,
-            peaks: 3,
-            band_hz: (50.0, f64::INFINITY),
-            nperseg: None,
-            resolution_hz: DEFAULT_RESOLUTION_HZ,
-            from_s: None,
-            to_s: None,
-            min_separation_hz: 50.0,
-            tolerance: Tolerance::default(),
-        }
-    }
+    /// Spectrum, window, peaks and tolerance.
+    pub spectrum: AnalysisOptions,
 }
 
 /// The PSD of one harmonic.
@@ -186,12 +159,9 @@ fn ring_n_max(headers: &[String], path: &Path) -> Result<usize> {
 }
 
 /// The per-n spectra and peaks of the ring of `run_dir` (its `ring.csv` and `modes.json`, or
-/// `modes_file`).
-pub fn analyse_ring(
-    run_dir: &Path,
-    options: &PerNOptions,
-    modes_file: Option<&Path>,
-) -> Result<PerNAnalysis> {
+/// the options' modes file).
+pub fn analyse_ring(run_dir: &Path, options: &PerNOptions) -> Result<PerNAnalysis> {
+    let spectrum = &options.spectrum;
     let path = run_dir.join(crate::rolling::ring::RING_CSV);
     if !path.exists() {
         return Err(Error::input(
@@ -216,7 +186,7 @@ pub fn analyse_ring(
     let first = &series[0];
     let fs = first.sample_rate_hz;
     let nyquist = 0.5 * fs;
-    let band = match options.band_hz {
+    let band = match spectrum.band_hz {
         (lo, hi) if hi.is_infinite() && hi > 0.0 => (lo, DEFAULT_FMAX_HZ.min(nyquist)),
         b => b,
     };
@@ -230,9 +200,9 @@ pub fn analyse_ring(
             ),
         ));
     }
-    let from_s = options.from_s.unwrap_or(first.start_time_s);
-    let range = window_range(first, from_s, options.to_s, &path)?;
-    let params = welch_for_resolution(range.len(), fs, options.resolution_hz, options.nperseg)?;
+    let from_s = spectrum.from_s.unwrap_or(first.start_time_s);
+    let range = window_range(first, from_s, spectrum.to_s, &path)?;
+    let params = welch_for_resolution(range.len(), fs, spectrum.resolution_hz, spectrum.nperseg)?;
     let mut spectra = Vec::new();
     let mut frequencies_hz = Vec::new();
     let mut segments = 0;
@@ -260,8 +230,9 @@ pub fn analyse_ring(
             median_in_band,
         });
     }
-    let modes_path = modes_file
-        .map(Path::to_path_buf)
+    let modes_path = spectrum
+        .modes_file
+        .clone()
         .unwrap_or_else(|| run_dir.join("modes.json"));
     if !modes_path.exists() {
         return Err(Error::input(
@@ -275,7 +246,7 @@ pub fn analyse_ring(
     let window = AnalysisWindow {
         from_s: first.start_time_s + range.start as f64 / fs,
         to_s: first.start_time_s + (range.end - 1) as f64 / fs,
-        start_from: if options.from_s.is_some() {
+        start_from: if spectrum.from_s.is_some() {
             "--from-ms".into()
         } else {
             "the first sample".into()
@@ -346,11 +317,12 @@ fn harmonic_peaks(
     band: (f64, f64),
 ) -> Result<Vec<HarmonicPeak>> {
     let families = options.direction.families();
+    let spectrum_options = &options.spectrum;
     let search = PeakSearch {
         min_frequency_hz: band.0,
         max_frequency_hz: band.1,
-        min_separation_hz: options.min_separation_hz,
-        max_peaks: options.peaks,
+        min_separation_hz: spectrum_options.min_separation_hz,
+        max_peaks: spectrum_options.peaks,
         ..Default::default()
     };
     let mut out = Vec::new();
@@ -363,7 +335,8 @@ fn harmonic_peaks(
                 .filter(|m| m.nodal_diameters as usize == spectrum.n && m.frequency_hz > 0.0)
                 .filter(|m| families.contains(&m.family))
                 .filter(|m| {
-                    (f - m.frequency_hz).abs() <= options.tolerance.window_hz(m.frequency_hz)
+                    (f - m.frequency_hz).abs()
+                        <= spectrum_options.tolerance.window_hz(m.frequency_hz)
                 })
                 .min_by(|a, b| {
                     (f - a.frequency_hz)

@@ -141,7 +141,7 @@ impl CommonArgs {
             ));
         }
         let signal = match (&self.direction, &self.column, &self.signal) {
-            (Some(DirectionArg::Radial | DirectionArg::Circumferential), _, _) => {
+            (Some(DirectionArg::Radial | DirectionArg::Circumferential), _, _) if !self.per_n => {
                 return Err(Error::input(
                     "command line",
                     "--direction",
@@ -187,18 +187,11 @@ impl CommonArgs {
     /// The options of a per-n analysis (`--per-n`).
     fn per_n_options(&self) -> Result<PerNOptions> {
         // The shared checks (tolerances, peaks) and the inputs' protection.
-        let shared = self.options()?;
+        let spectrum = self.options()?;
         let direction = self.direction.unwrap_or(DirectionArg::Lateral).ring()?;
         Ok(PerNOptions {
             direction,
-            peaks: shared.peaks,
-            band_hz: shared.band_hz,
-            nperseg: shared.nperseg,
-            resolution_hz: shared.resolution_hz,
-            from_s: shared.from_s,
-            to_s: shared.to_s,
-            min_separation_hz: shared.min_separation_hz,
-            tolerance: shared.tolerance,
+            spectrum,
         })
     }
 }
@@ -206,7 +199,7 @@ impl CommonArgs {
 /// `squeal identify --per-n`: the frequency x n map and each harmonic's named peaks.
 fn run_identify_per_n(args: &IdentifyArgs) -> Result<()> {
     let options = args.common.per_n_options()?;
-    let analysis = analyse_ring(&args.common.run_dir, &options, args.common.modes.as_deref())?;
+    let analysis = analyse_ring(&args.common.run_dir, &options)?;
     print_ring_window(&analysis);
     let md = peaks_markdown(&analysis);
     println!("{md}");
@@ -363,7 +356,7 @@ fn check_modes_per_n(args: &CheckModesArgs, required: &[(u32, u32)]) -> Result<b
         ));
     }
     let options = args.common.per_n_options()?;
-    let analysis = analyse_ring(&args.common.run_dir, &options, args.common.modes.as_deref())?;
+    let analysis = analyse_ring(&args.common.run_dir, &options)?;
     print_ring_window(&analysis);
     let outcomes = check_required(&analysis, required, args.margin_db);
     for o in &outcomes {

@@ -74,3 +74,23 @@ pub fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
         .expect("a thread pool")
         .install(f)
 }
+
+/// The modes a `squeal` command (`axisym` or `modes`, with `args`) writes into `out`, read
+/// back from its `modes.json`.
+pub fn squeal_modes(
+    args: &[&str],
+    out: &std::path::Path,
+) -> Vec<squeal::analysis::identify::ModeRef> {
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    squeal::modal::mode::read_modes_json(&out.join("modes.json")).unwrap()
+}
