@@ -26,7 +26,9 @@ use std::path::Path;
 use serde::Serialize;
 
 use crate::analysis::identify::{ModeFamily, ModeRef};
-use crate::analysis::run::{window_range, AnalysisOptions, AnalysisWindow, DEFAULT_FMAX_HZ};
+use crate::analysis::run::{
+    read_run_modes, window_range, AnalysisOptions, AnalysisWindow, DEFAULT_FMAX_HZ,
+};
 use crate::signal::resolution::{describe, welch_for_resolution};
 use crate::signal::{find_spectral_peaks, welch, PeakSearch, TimeSeries};
 use crate::{Error, Result};
@@ -230,18 +232,7 @@ pub fn analyse_ring(run_dir: &Path, options: &PerNOptions) -> Result<PerNAnalysi
             median_in_band,
         });
     }
-    let modes_path = spectrum
-        .modes_file
-        .clone()
-        .unwrap_or_else(|| run_dir.join("modes.json"));
-    if !modes_path.exists() {
-        return Err(Error::input(
-            modes_path.display().to_string(),
-            "modes",
-            "no modal results: the run's modes.json is missing; pass --modes FILE",
-        ));
-    }
-    let modes: Vec<ModeRef> = crate::modal::mode::read_modes_json(&modes_path)?;
+    let modes = read_run_modes(run_dir, spectrum.modes_file.as_deref())?;
     let peaks = harmonic_peaks(&frequencies_hz, &spectra, &modes, options, band)?;
     let window = AnalysisWindow {
         from_s: first.start_time_s + range.start as f64 / fs,

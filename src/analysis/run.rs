@@ -244,18 +244,7 @@ pub fn analyse_run(run_dir: &Path, options: &AnalysisOptions) -> Result<RunAnaly
         ..Default::default()
     };
     let peaks = psd.find_peaks(&search)?;
-    let modes_path = options
-        .modes_file
-        .clone()
-        .unwrap_or_else(|| run_dir.join("modes.json"));
-    if !modes_path.exists() {
-        return Err(Error::input(
-            modes_path.display().to_string(),
-            "modes",
-            "no modal results: run `squeal modes ... --out RUN_DIR` or pass --modes FILE",
-        ));
-    }
-    let modes: Vec<ModeRef> = crate::modal::mode::read_modes_json(&modes_path)?;
+    let modes = read_run_modes(run_dir, options.modes_file.as_deref())?;
     // The rim point less the rim mean has no rim-mean part by construction: ratio 0, so that
     // its peaks get only modes with nodal diameters the mean cancels.
     let ratios: Option<Vec<f64>> = if column.starts_with("rim_point_minus_mean_") {
@@ -285,6 +274,21 @@ pub fn analyse_run(run_dir: &Path, options: &AnalysisOptions) -> Result<RunAnaly
         identifications,
         modes,
     })
+}
+
+/// The modes that label a run's peaks: `modes_file`, or the run's own `modes.json`.
+pub fn read_run_modes(run_dir: &Path, modes_file: Option<&Path>) -> Result<Vec<ModeRef>> {
+    let modes_path = modes_file
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| run_dir.join("modes.json"));
+    if !modes_path.exists() {
+        return Err(Error::input(
+            modes_path.display().to_string(),
+            "modes",
+            "no modal results: run `squeal modes ... --out RUN_DIR` or pass --modes FILE",
+        ));
+    }
+    crate::modal::mode::read_modes_json(&modes_path)
 }
 
 /// `PSD(rim mean) / PSD(rim point)` summed over the bin nearest `f_hz` and its two neighbours.
