@@ -27,7 +27,8 @@ use serde::Serialize;
 
 use crate::analysis::identify::{ModeFamily, ModeRef};
 use crate::analysis::run::{
-    read_run_modes, window_range, AnalysisOptions, AnalysisWindow, DEFAULT_FMAX_HZ,
+    read_csv_headers, read_run_modes, window_range, AnalysisOptions, AnalysisWindow,
+    DEFAULT_FMAX_HZ,
 };
 use crate::signal::resolution::{describe, welch_for_resolution};
 use crate::signal::{find_spectral_peaks, welch, PeakSearch, TimeSeries};
@@ -173,7 +174,7 @@ pub fn analyse_ring(run_dir: &Path, options: &PerNOptions) -> Result<PerNAnalysi
              case file (docs/curving.md)",
         ));
     }
-    let headers = read_headers(&path)?;
+    let headers = read_csv_headers(&path)?;
     let n_max = ring_n_max(&headers, &path)?;
     let dir = options.direction.word();
     let mut names = Vec::new();
@@ -253,25 +254,6 @@ pub fn analyse_ring(run_dir: &Path, options: &PerNOptions) -> Result<PerNAnalysi
         window,
         modes,
     })
-}
-
-fn read_headers(path: &Path) -> Result<Vec<String>> {
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(file);
-    Ok(reader
-        .headers()
-        .map_err(|e| {
-            Error::input(
-                path.display().to_string(),
-                "header",
-                format!("cannot read the CSV header: {e}"),
-            )
-        })?
-        .iter()
-        .map(str::to_string)
-        .collect())
 }
 
 /// Median of `psd` over the bins in `band` (NaN without bins).

@@ -118,22 +118,7 @@ pub struct RunAnalysis {
 /// Resolve a signal name to a column of the histories file: an exact column name, or the one
 /// column whose name starts with `<signal>_`.
 pub fn resolve_column(path: &Path, signal: &str) -> Result<String> {
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(file);
-    let headers: Vec<String> = reader
-        .headers()
-        .map_err(|e| {
-            Error::input(
-                path.display().to_string(),
-                "header",
-                format!("cannot read the CSV header: {e}"),
-            )
-        })?
-        .iter()
-        .map(str::to_string)
-        .collect();
+    let headers = read_csv_headers(path)?;
     if headers.iter().any(|h| h == signal) {
         return Ok(signal.to_string());
     }
@@ -162,6 +147,26 @@ pub fn resolve_column(path: &Path, signal: &str) -> Result<String> {
             ),
         )),
     }
+}
+
+/// The column names of a CSV file's header line.
+pub fn read_csv_headers(path: &Path) -> Result<Vec<String>> {
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut reader = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_reader(file);
+    Ok(reader
+        .headers()
+        .map_err(|e| {
+            Error::input(
+                path.display().to_string(),
+                "header",
+                format!("cannot read the CSV header: {e}"),
+            )
+        })?
+        .iter()
+        .map(str::to_string)
+        .collect())
 }
 
 /// Analyse one signal of a run directory.

@@ -230,7 +230,7 @@ impl RollingContact {
     /// Flushes `contact_forces.csv` and `ring.csv`.
     pub fn flush(&mut self) -> Result<()> {
         if let Some(ring) = self.ring.as_mut() {
-            ring.flush(&self.out_dir)?;
+            ring.flush()?;
         }
         let path = self.out_dir.join("contact_forces.csv");
         if let Some(w) = self.writer.as_mut() {

@@ -86,6 +86,8 @@ pub struct RingRecorder {
     sin_parts: [Vec<f64>; 3],
     row: String,
     writer: Option<BufWriter<File>>,
+    /// `ring.csv` once opened (for the errors of its writes).
+    path: PathBuf,
 }
 
 impl RingRecorder {
@@ -102,6 +104,7 @@ impl RingRecorder {
             sin_parts: std::array::from_fn(|_| vec![0.0; n_max + 1]),
             row: String::with_capacity(64 * (6 * n_max + 4)),
             writer: None,
+            path: PathBuf::new(),
         })
     }
 
@@ -148,6 +151,7 @@ impl RingRecorder {
             writeln!(w, "time_s,{header}").map_err(|e| Error::io(&path, e))?;
         }
         self.writer = Some(w);
+        self.path = path;
         Ok(())
     }
 
@@ -204,19 +208,17 @@ impl RingRecorder {
             }
         }
         self.row.push('\n');
-        let path = out.0.join(RING_CSV);
         if let Some(w) = self.writer.as_mut() {
             w.write_all(self.row.as_bytes())
-                .map_err(|e| Error::io(&path, e))?;
+                .map_err(|e| Error::io(&self.path, e))?;
         }
         Ok(())
     }
 
     /// Flushes `ring.csv`.
-    pub fn flush(&mut self, out_dir: &Path) -> Result<()> {
-        let path: PathBuf = out_dir.join(RING_CSV);
+    pub fn flush(&mut self) -> Result<()> {
         if let Some(w) = self.writer.as_mut() {
-            w.flush().map_err(|e| Error::io(&path, e))?;
+            w.flush().map_err(|e| Error::io(&self.path, e))?;
         }
         Ok(())
     }
