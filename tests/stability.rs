@@ -1292,3 +1292,50 @@ fn degenerate_wheel_mode_pair_grows_along_the_slip_where_one_lateral_mode_is_dam
         "decaying frequency",
     );
 }
+
+/// A creepage override on a run's operating point moves the slip speed, and the friction law
+/// gives mu and its slope there (before 2026-11-29 they stayed at the run's own slip: at 10
+/// mrad on the falling-friction curve run, mu 0.474 and -0.923 s/m instead of 0.429 and
+/// -0.655 s/m). Reference: the paper's law mu(v) = 0.32 + 0.18 exp(-6 s/m v) at
+/// v = V hypot(xi, eta), by hand.
+#[test]
+fn an_eta_override_takes_mu_and_its_slope_from_the_friction_law_at_the_new_slip() {
+    let out = std::env::temp_dir().join(format!("squeal_stability_eta_{}", std::process::id()));
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .args([
+            "stability",
+            "--case",
+            "data/cases/curve-falling-10mrad.json",
+            "data/runs/curve/curve-falling-10mrad",
+            "--time-ms",
+            "150",
+            "--eta",
+            "0.01",
+            "--fmax-hz",
+            "1000",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("stability.json")).unwrap())
+            .unwrap();
+    let op = &json["operating_point"];
+    let speed = op["speed_m_per_s"].as_f64().unwrap();
+    let xi = op["creepages"]["xi"].as_f64().unwrap();
+    let eta = op["creepages"]["eta"].as_f64().unwrap();
+    assert_eq!(eta, 0.01);
+    let v = speed * xi.hypot(eta);
+    let mu = 0.32 + 0.18 * (-6.0 * v).exp();
+    let slope = -6.0 * 0.18 * (-6.0 * v).exp();
+    // Only rounding separates the two evaluations of one formula.
+    assert!((op["mu"].as_f64().unwrap() - mu).abs() < 1e-12);
+    assert!((op["friction_slope_s_per_m"].as_f64().unwrap() - slope).abs() < 1e-12);
+    let _ = std::fs::remove_dir_all(&out);
+}

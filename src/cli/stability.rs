@@ -198,6 +198,7 @@ fn check_overrides(args: &StabilityArgs) -> Result<()> {
 fn apply_overrides(
     args: &StabilityArgs,
     model: &StabilityModel,
+    law: &squeal::friction::FrictionLaw,
     op: &mut OperatingPoint,
 ) -> Result<()> {
     if let Some(f) = args.normal_force_n {
@@ -211,6 +212,12 @@ fn apply_overrides(
     }
     if let Some(v) = args.eta {
         op.creepages.eta = v;
+    }
+    // A creepage override moves the slip speed: the friction law gives mu and its slope there
+    // (unless they are overridden too), as the operating point's own fixed point does.
+    if (args.xi.is_some() || args.eta.is_some()) && args.mu.is_none() {
+        let slip_m_per_s = op.speed_m_per_s * op.creepages.xi.hypot(op.creepages.eta);
+        (op.mu, op.friction_slope_s_per_m) = operating::friction_at(law, slip_m_per_s);
     }
     if let Some(v) = args.friction_slope_s_per_m {
         op.friction_slope_s_per_m = v;
@@ -318,7 +325,7 @@ pub fn run(args: StabilityArgs) -> Result<()> {
             model.material,
         )?,
     };
-    apply_overrides(&args, &model, &mut op)?;
+    apply_overrides(&args, &model, &loaded.case.friction, &mut op)?;
     let (rail, rail_models) = model.rail(op.wheel_x_m, op.contact_rail_y_m)?;
     let wheel = model.wheel_body(&op)?;
     let point = model.analyse(&op, &wheel, &rail)?;
