@@ -10,6 +10,8 @@
 //!   harmonic's peaks named from the modes of its n, and the per-n check of required modes.
 //! - [`creep_check`]: a yawed wheelset's quasi-steady creep forces against Kalker's exact theory.
 //! - [`growth`]: wavelet-ridge amplitude and growth rate per mode band and time window.
+//! - [`ring_growth`]: each ring harmonic's envelope, growth rate and limit cycle, and the squeal
+//!   verdict by the criteria of docs/curving.md.
 //!
 //! It reads run directories and mode files and never draws: `report` renders what it returns.
 
@@ -17,6 +19,7 @@ pub mod creep_check;
 pub mod growth;
 pub mod identify;
 pub mod per_n;
+pub mod ring_growth;
 pub mod run;
 
 pub use run::{

@@ -164,7 +164,37 @@ fn ring_n_max(headers: &[String], path: &Path) -> Result<usize> {
 /// The per-n spectra and peaks of the ring of `run_dir` (its `ring.csv` and `modes.json`, or
 /// the options' modes file).
 pub fn analyse_ring(run_dir: &Path, options: &PerNOptions) -> Result<PerNAnalysis> {
-    let spectrum = &options.spectrum;
+    let ring = read_ring(run_dir, options.direction)?;
+    let modes = read_run_modes(run_dir, options.spectrum.modes_file.as_deref())?;
+    analyse_harmonics(&ring, modes, options)
+}
+
+/// One direction of a run's ring record: per harmonic n = 0..=n_max its cosine part and (n >=
+/// 1) its sine part, in that order.
+#[derive(Clone, Debug)]
+pub struct RingRecord {
+    /// The file read.
+    pub path: std::path::PathBuf,
+    /// The direction.
+    pub direction: RingDirection,
+    /// Highest harmonic.
+    pub n_max: usize,
+    /// `c_0, c_1, s_1, c_2, s_2, ...` (m/s).
+    pub parts: Vec<TimeSeries>,
+}
+
+impl RingRecord {
+    /// The cosine and (n >= 1) sine parts of harmonic `n`.
+    pub fn harmonic(&self, n: usize) -> &[TimeSeries] {
+        let start = if n == 0 { 0 } else { 2 * n - 1 };
+        let count = if n == 0 { 1 } else { 2 };
+        &self.parts[start..start + count]
+    }
+}
+
+/// Reads one direction of the ring of `run_dir` (`ring.csv`); a run without a ring is an input
+/// error naming it.
+pub fn read_ring(run_dir: &Path, direction: RingDirection) -> Result<RingRecord> {
     let path = run_dir.join(crate::rolling::ring::RING_CSV);
     if !path.exists() {
         return Err(Error::input(
@@ -176,7 +206,7 @@ pub fn analyse_ring(run_dir: &Path, options: &PerNOptions) -> Result<PerNAnalysi
     }
     let headers = read_csv_headers(&path)?;
     let n_max = ring_n_max(&headers, &path)?;
-    let dir = options.direction.word();
+    let dir = direction.word();
     let mut names = Vec::new();
     for n in 0..=n_max {
         names.push(crate::rolling::ring::ring_column(n, dir, "cos"));
@@ -185,8 +215,25 @@ pub fn analyse_ring(run_dir: &Path, options: &PerNOptions) -> Result<PerNAnalysi
         }
     }
     let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
-    let series = TimeSeries::columns_from_csv(&path, &name_refs)?;
-    let first = &series[0];
+    let parts = TimeSeries::columns_from_csv(&path, &name_refs)?;
+    Ok(RingRecord {
+        path,
+        direction,
+        n_max,
+        parts,
+    })
+}
+
+/// The per-n spectra and peaks of a ring record, its peaks named from `modes` (the record's
+/// direction, not the options', says which families name them).
+pub fn analyse_harmonics(
+    ring: &RingRecord,
+    modes: Vec<ModeRef>,
+    options: &PerNOptions,
+) -> Result<PerNAnalysis> {
+    let spectrum = &options.spectrum;
+    let path = &ring.path;
+    let first = &ring.parts[0];
     let fs = first.sample_rate_hz;
     let nyquist = 0.5 * fs;
     let band = match spectrum.band_hz {
@@ -204,16 +251,14 @@ pub fn analyse_ring(run_dir: &Path, options: &PerNOptions) -> Result<PerNAnalysi
         ));
     }
     let from_s = spectrum.from_s.unwrap_or(first.start_time_s);
-    let range = window_range(first, from_s, spectrum.to_s, &path)?;
+    let range = window_range(first, from_s, spectrum.to_s, path)?;
     let params = welch_for_resolution(range.len(), fs, spectrum.resolution_hz, spectrum.nperseg)?;
     let mut spectra = Vec::new();
     let mut frequencies_hz = Vec::new();
     let mut segments = 0;
-    let mut k = 0;
-    for n in 0..=n_max {
-        let parts = if n == 0 { 1 } else { 2 };
+    for n in 0..=ring.n_max {
         let mut sum: Vec<f64> = Vec::new();
-        for s in &series[k..k + parts] {
+        for s in ring.harmonic(n) {
             let psd = welch(&s.values[range.clone()], fs, &params)?;
             if sum.is_empty() {
                 sum = psd.psd_per_hz.to_vec();
@@ -225,7 +270,6 @@ pub fn analyse_ring(run_dir: &Path, options: &PerNOptions) -> Result<PerNAnalysi
                 }
             }
         }
-        k += parts;
         let median_in_band = median_over(&frequencies_hz, &sum, band);
         spectra.push(HarmonicSpectrum {
             n,
@@ -233,8 +277,14 @@ pub fn analyse_ring(run_dir: &Path, options: &PerNOptions) -> Result<PerNAnalysi
             median_in_band,
         });
     }
-    let modes = read_run_modes(run_dir, spectrum.modes_file.as_deref())?;
-    let peaks = harmonic_peaks(&frequencies_hz, &spectra, &modes, options, band)?;
+    let peaks = harmonic_peaks(
+        &frequencies_hz,
+        &spectra,
+        &modes,
+        ring.direction,
+        options,
+        band,
+    )?;
     let window = AnalysisWindow {
         from_s: first.start_time_s + range.start as f64 / fs,
         to_s: first.start_time_s + (range.end - 1) as f64 / fs,
@@ -246,7 +296,7 @@ pub fn analyse_ring(run_dir: &Path, options: &PerNOptions) -> Result<PerNAnalysi
         spectrum: describe(&params, fs, segments),
     };
     Ok(PerNAnalysis {
-        direction: options.direction,
+        direction: ring.direction,
         frequencies_hz,
         band_hz: band,
         spectra,
@@ -286,10 +336,11 @@ fn harmonic_peaks(
     frequencies_hz: &[f64],
     spectra: &[HarmonicSpectrum],
     modes: &[ModeRef],
+    direction: RingDirection,
     options: &PerNOptions,
     band: (f64, f64),
 ) -> Result<Vec<HarmonicPeak>> {
-    let families = options.direction.families();
+    let families = direction.families();
     let spectrum_options = &options.spectrum;
     let search = PeakSearch {
         min_frequency_hz: band.0,

@@ -36,6 +36,15 @@ pub struct GrowthArgs {
     /// Write growth.md, growth.json and ridges.csv here (default: out/growth/<run name>).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// The rim ring's harmonics instead of a histories column: each nodal-diameter harmonic's
+    /// envelope, growth rate and limit cycle, and whether the wheel squeals, by the criteria
+    /// fixed before the curve runs (docs/curving.md#criteria-fixed-before-the-runs). Writes
+    /// ring_growth.{md,json}, ring_envelopes.csv and ring_mode_envelopes.csv.
+    #[arg(long, conflicts_with_all = ["column", "modes", "half_width", "from_ms", "window_ms"])]
+    pub per_n: bool,
+    /// With --per-n: modes file that names the harmonics' peaks (default RUN_DIR/modes.json).
+    #[arg(long = "modes", requires = "per_n")]
+    pub modes_file: Option<PathBuf>,
 }
 
 /// The library's default modes as command-line labels ("0,3").
@@ -50,6 +59,9 @@ fn default_mode_labels() -> Vec<String> {
 /// Run `squeal growth`.
 pub fn run(args: GrowthArgs) -> Result<()> {
     squeal::output::protect_inputs([&args.run_dir]);
+    if args.per_n {
+        return run_per_n(&args);
+    }
     if !(args.half_width > 0.0 && args.half_width < 0.5) {
         return Err(Error::input(
             "command line",
@@ -102,6 +114,41 @@ pub fn run(args: GrowthArgs) -> Result<()> {
     )?;
     write("ridges.csv", ridges_csv(&g))?;
     println!("wrote {}/growth.{{md,json}} and ridges.csv", out.display());
+    stage.commit(Commit::Merge)?;
+    Ok(())
+}
+
+/// `squeal growth --per-n`: the ring's harmonics judged by the fixed criteria.
+fn run_per_n(args: &GrowthArgs) -> Result<()> {
+    use squeal::analysis::ring_growth::{
+        envelopes_csv, mode_envelopes_csv, ring_growth, to_markdown, GrowthCriteria,
+    };
+    let g = ring_growth(
+        &args.run_dir,
+        args.modes_file.as_deref(),
+        &GrowthCriteria::default(),
+    )?;
+    let md = to_markdown(&g);
+    println!("{md}");
+    let out = out_dir(args.out.clone(), "growth", &input_name(&args.run_dir));
+    // Written beside the output folder and moved into it when complete.
+    let stage = StagedDir::new(&out)?;
+    let dir = stage.path().to_path_buf();
+    let write = |name: &str, text: String| -> Result<()> {
+        let p = dir.join(name);
+        std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
+    };
+    write("ring_growth.md", md)?;
+    write(
+        "ring_growth.json",
+        serde_json::to_string_pretty(&g).map_err(|e| Error::Numerical(e.to_string()))?,
+    )?;
+    write("ring_envelopes.csv", envelopes_csv(&g))?;
+    write("ring_mode_envelopes.csv", mode_envelopes_csv(&g))?;
+    println!(
+        "wrote {}/ring_growth.{{md,json}}, ring_envelopes.csv, ring_mode_envelopes.csv",
+        out.display()
+    );
     stage.commit(Commit::Merge)?;
     Ok(())
 }

@@ -7,6 +7,7 @@ pub mod kalker_charts;
 pub mod modal_chart;
 mod page;
 pub mod patch_maps;
+mod ring_sections;
 pub mod run_report;
 mod sections;
 pub mod stability_charts;

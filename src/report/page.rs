@@ -5,6 +5,8 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use crate::analysis::identify::ModeRef;
+use crate::analysis::per_n::PerNAnalysis;
+use crate::analysis::ring_growth::RingGrowth;
 use crate::analysis::RunAnalysis;
 use crate::stability::output::StabilityBrief;
 use crate::table::Table;
@@ -18,6 +20,11 @@ pub(super) struct Run {
     pub(super) modes: Option<Vec<ModeRef>>,
     /// The stability analysis of the run's case: its `stability.json`, else the one given.
     pub(super) stability: Option<StabilityBrief>,
+    /// The growth analysis of its rim ring (None: no `ring.csv`; an error's text when the ring
+    /// cannot be judged, e.g. a record shorter than the criteria's spans).
+    pub(super) ring: Option<std::result::Result<RingGrowth, String>>,
+    /// The lateral per-n map after the creep force's build-up (or over the report's window).
+    pub(super) ring_map: Option<PerNAnalysis>,
 }
 
 /// The report page being written: its markdown, section headings and files.

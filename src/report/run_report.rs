@@ -8,8 +8,12 @@
 //! - mode-to-peak tables; the predicted unstable modes beside the PSD peaks when the run has a
 //!   `stability.json` (or one is given); run metadata from `run.json`; a WAV of the lateral vibration.
 //!
+//! - with a rim ring (`ring.csv`): first the squeal verdict by the criteria of docs/curving.md,
+//!   then the frequency x n map, the harmonics' envelopes, the growth and limit-cycle table and
+//!   the stability analysis beside the ring ([`super::ring_sections`]).
+//!
 //! Files read from each run directory (see [`crate::analysis`]): `histories.csv` (required),
-//! `modes.json`, `contact_forces.csv`, `run.json`, `stability.json` (optional).
+//! `modes.json`, `contact_forces.csv`, `run.json`, `stability.json`, `ring.csv` (optional).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -18,8 +22,10 @@ use serde::Serialize;
 
 pub use super::page::ReportOptions;
 use super::page::{Page, Run};
-use super::sections;
+use super::{ring_sections, sections};
 use crate::analysis::identify::ModeRef;
+use crate::analysis::per_n::{analyse_ring, PerNAnalysis, PerNOptions, RingDirection};
+use crate::analysis::ring_growth::{ring_growth, GrowthCriteria, RingGrowth};
 use crate::analysis::{analyse_run, AnalysisOptions};
 use crate::stability::output::read_brief;
 use crate::table::Table;
@@ -107,6 +113,7 @@ pub fn build_report(
             (false, Some(path)) => Some(read_brief(path)?),
             (false, None) => None,
         };
+        let (ring, ring_map) = read_ring_analyses(dir, report_options);
         runs.push(Run {
             name: run_name(dir),
             dir: dir.clone(),
@@ -114,6 +121,8 @@ pub fn build_report(
             analyses,
             modes,
             stability,
+            ring,
+            ring_map,
         });
     }
 
@@ -124,6 +133,8 @@ pub fn build_report(
         report_options,
     };
     let _ = writeln!(page.md, "# {title}\n\nRuns: {}. Axes: x along the track, y lateral (field side), z up. Mode labels: (nodal circles, nodal diameters).", runs.iter().map(|r| format!("`{}`", r.name)).collect::<Vec<_>>().join(", "));
+    ring_sections::verdict(&mut page, &ctx)?;
+    ring_sections::per_n(&mut page, &ctx)?;
     sections::summary(&mut page, &ctx)?;
     sections::vibration(&mut page, &ctx)?;
     sections::wavelets(&mut page, &ctx)?;
@@ -156,6 +167,38 @@ pub fn build_report(
     )
     .map_err(|e| Error::io(&json, e))?;
     Ok(summary)
+}
+
+/// The growth analysis of a run's rim ring by the fixed criteria, and its lateral per-n map
+/// over the report's window (default: from the end of the creep force's build-up); (None, None)
+/// without a `ring.csv`.
+fn read_ring_analyses(
+    dir: &Path,
+    report_options: &ReportOptions,
+) -> (
+    Option<std::result::Result<RingGrowth, String>>,
+    Option<PerNAnalysis>,
+) {
+    if !dir.join(crate::rolling::ring::RING_CSV).exists() {
+        return (None, None);
+    }
+    let growth = ring_growth(dir, None, &GrowthCriteria::default()).map_err(|e| e.to_string());
+    let from_s = report_options
+        .from_s
+        .or_else(|| growth.as_ref().ok().map(|g| g.windows.build_up_end_s));
+    let options = PerNOptions {
+        direction: RingDirection::Lateral,
+        spectrum: AnalysisOptions {
+            from_s,
+            to_s: report_options.to_s,
+            ..AnalysisOptions::default()
+        },
+    };
+    let map = growth
+        .is_ok()
+        .then(|| analyse_ring(dir, &options).ok())
+        .flatten();
+    (Some(growth), map)
 }
 
 /// The report page's stylesheet: a readable column, tables with lines, charts two per row,
