@@ -62,6 +62,9 @@ fn fixtures() -> PathBuf {
     write_case("yaw_and_ramp.json", &|c| {
         c["lateral_motion"] = ramp["lateral_motion"].clone()
     });
+    write_case("step2.json", &|c| {
+        c["time_stepping"] = serde_json::json!({"step_scale": 2.0})
+    });
     dir
 }
 
@@ -107,6 +110,7 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let aoa60 = fx.join("aoa60.json").display().to_string();
     let ring20 = fx.join("ring20.json").display().to_string();
     let ring7 = fx.join("ring7.json").display().to_string();
+    let step2 = fx.join("step2.json").display().to_string();
     let yaw_and_ramp = fx.join("yaw_and_ramp.json").display().to_string();
     let frf = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/fixtures/uff/frf_ascii.uff")
@@ -984,6 +988,11 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["missing.json"],
         ),
         // Curving and the rim ring (issue 57).
+        (
+            vec!["simulate", "--case", &step2, "--out", "o"],
+            2,
+            vec!["step2.json", "time_stepping.step_scale", "[0.05, 1]"],
+        ),
         (
             vec!["simulate", "--case", &aoa60, "--out", "o"],
             2,

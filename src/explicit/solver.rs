@@ -374,6 +374,22 @@ impl Solver {
         Ok(())
     }
 
+    /// Scales the solver's step (and the step it returns to after an inertia scaling) by
+    /// `factor` in (0, 1]: a smaller step than the engine's own, for a time-step convergence
+    /// study; a larger one would pass the stable limit and is refused.
+    pub fn scale_time_step(&mut self, factor: f64) -> Result<()> {
+        if !(factor > 0.0 && factor <= 1.0) {
+            return Err(Error::input(
+                "case",
+                "time_stepping.step_scale",
+                format!("must lie in (0, 1] (got {factor})"),
+            ));
+        }
+        self.dt_s *= factor;
+        self.unscaled_dt_s = self.dt_s;
+        Ok(())
+    }
+
     /// Sets an initial velocity field `v = v0 + omega x (X - centre)` on `nodes` (all when None),
     /// and the matching rigid-body momenta.
     pub fn set_initial_velocity(

@@ -26,7 +26,7 @@ pub enum MultiRateMode {
 }
 
 /// The `time_stepping` block of a case file (every field optional).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimeSteppingSpec {
     /// `auto` (default), `on` or `off`.
@@ -39,7 +39,19 @@ pub struct TimeSteppingSpec {
     /// Ratio of neighbouring levels' steps, a power of two (default 2).
     #[serde(default = "default_level_ratio")]
     pub level_ratio: u32,
+    /// The (finest) step as a fraction of the engine's, `COURANT_FACTOR` times the stable step
+    /// (default 1; in [0.05, 1]): below 1 for a time-step convergence study (issue 57, item 5:
+    /// the step halved).
+    #[serde(default = "default_step_scale")]
+    pub step_scale: f64,
 }
+
+fn default_step_scale() -> f64 {
+    1.0
+}
+
+/// Smallest `step_scale`: a twentieth of the engine's step costs twenty times the run.
+pub const SMALLEST_STEP_SCALE: f64 = 0.05;
 
 fn default_max_levels() -> usize {
     8
@@ -55,6 +67,7 @@ impl Default for TimeSteppingSpec {
             multi_rate: MultiRateMode::Auto,
             max_levels: default_max_levels(),
             level_ratio: default_level_ratio(),
+            step_scale: default_step_scale(),
         }
     }
 }
@@ -71,6 +84,17 @@ impl TimeSteppingSpec {
 
     /// Checks the block; errors name `source` and `time_stepping.<field>` with the range.
     pub fn validate(&self, source: &str) -> Result<()> {
+        if !(self.step_scale >= SMALLEST_STEP_SCALE && self.step_scale <= 1.0) {
+            return Err(Error::input(
+                source,
+                "time_stepping.step_scale",
+                format!(
+                    "must lie in [{SMALLEST_STEP_SCALE}, 1] (got {}): a fraction of the engine's \
+                     step, which is already {COURANT_FACTOR} of the stable one",
+                    self.step_scale
+                ),
+            ));
+        }
         self.scheme().check(source, "time_stepping.")
     }
 }

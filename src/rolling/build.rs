@@ -182,6 +182,7 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         None => Vec::new(),
     };
     let mut solver = Solver::new(model, None)?;
+    solver.scale_time_step(case.time_stepping.step_scale)?;
     // The sprung mass sits at its static position: the suspension carries its weight.
     let suspension_static_compression_m = d.sprung_mass.static_compression_m;
     solver.u[sprung_node][2] = -suspension_static_compression_m;
