@@ -257,6 +257,7 @@ fn the_growth_of_the_committed_curve_runs_by_the_fixed_criteria() {
         std::path::Path::new("data/runs/curve/curve-falling-10mrad"),
         None,
         &criteria,
+        None,
     )
     .unwrap();
     assert!(!g.verdict.squeals, "{}", g.verdict.summary);
@@ -278,10 +279,27 @@ fn the_growth_of_the_committed_curve_runs_by_the_fixed_criteria() {
         lead.envelope_m_per_s.iter().position(|&e| e == peak),
         Some(11)
     );
+    // The first 110 ms alone (as the convergence runs of item 5 last): the same windows and
+    // envelopes up to there, whatever followed.
+    let g110 = ring_growth(
+        std::path::Path::new("data/runs/curve/curve-falling-10mrad"),
+        None,
+        &criteria,
+        Some(0.110),
+    )
+    .unwrap();
+    assert_eq!(g110.windows.start_s.len(), 22);
+    let lead110 = g110
+        .harmonics
+        .iter()
+        .find(|h| h.direction == RingDirection::Lateral && h.n == 5)
+        .unwrap();
+    assert_eq!(lead110.envelope_m_per_s[..], lead.envelope_m_per_s[..22]);
     let g20 = ring_growth(
         std::path::Path::new("data/runs/curve/curve-falling-20mrad"),
         None,
         &criteria,
+        None,
     )
     .unwrap();
     assert!(!g20.verdict.squeals, "{}", g20.verdict.summary);

@@ -189,11 +189,13 @@ pub const DIRECTIONS: [RingDirection; 3] = [
 ];
 
 /// Growth, limit cycle and verdict of the ring of `run_dir` (its `ring.csv`,
-/// `contact_forces.csv` and `modes.json`, or `modes_file`).
+/// `contact_forces.csv` and `modes.json`, or `modes_file`), over the record up to `to_s` (the
+/// whole record when None: a longer run's first part set against a shorter one's).
 pub fn ring_growth(
     run_dir: &Path,
     modes_file: Option<&Path>,
     criteria: &GrowthCriteria,
+    to_s: Option<f64>,
 ) -> Result<RingGrowth> {
     // The ring first: a run without one is told so before anything else is missing.
     let mut records = Vec::new();
@@ -209,8 +211,30 @@ pub fn ring_growth(
             "a growth analysis needs the run's creep force to find the end of its build-up",
         ));
     }
-    let force = TimeSeries::from_csv(&forces_path, "lateral_creep_force_n")?;
+    let mut force = TimeSeries::from_csv(&forces_path, "lateral_creep_force_n")?;
+    if let Some(t) = to_s {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(Error::input(
+                "command line",
+                "--to-ms",
+                format!("must be a positive time (got {} ms)", t * 1e3),
+            ));
+        }
+        crop(&mut force, t);
+        for r in &mut records {
+            for p in &mut r.parts {
+                crop(p, t);
+            }
+        }
+    }
     growth_of_records(&records, &force, &modes, criteria)
+}
+
+/// Drops the samples of `x` after `to_s`.
+fn crop(x: &mut TimeSeries, to_s: f64) {
+    let keep = (((to_s - x.start_time_s) * x.sample_rate_hz + 1e-6).floor() as usize + 1)
+        .min(x.values.len());
+    x.values.truncate(keep);
 }
 
 /// [`ring_growth`] on records in memory: the phases are the windows and the build-up, each

@@ -45,6 +45,10 @@ pub struct GrowthArgs {
     /// With --per-n: modes file that names the harmonics' peaks (default RUN_DIR/modes.json).
     #[arg(long = "modes", requires = "per_n")]
     pub modes_file: Option<PathBuf>,
+    /// With --per-n: judge the record up to this time (ms) only, e.g. a long run's first part
+    /// against a shorter run (default: the whole record).
+    #[arg(long, requires = "per_n", allow_negative_numbers = true)]
+    pub to_ms: Option<f64>,
 }
 
 /// The library's default modes as command-line labels ("0,3").
@@ -127,6 +131,7 @@ fn run_per_n(args: &GrowthArgs) -> Result<()> {
         &args.run_dir,
         args.modes_file.as_deref(),
         &GrowthCriteria::default(),
+        args.to_ms.map(|t| t * 1e-3),
     )?;
     let md = to_markdown(&g);
     println!("{md}");

@@ -182,7 +182,8 @@ fn read_ring_analyses(
     if !dir.join(crate::rolling::ring::RING_CSV).exists() {
         return (None, None);
     }
-    let growth = ring_growth(dir, None, &GrowthCriteria::default()).map_err(|e| e.to_string());
+    let growth = ring_growth(dir, None, &GrowthCriteria::default(), report_options.to_s)
+        .map_err(|e| e.to_string());
     let from_s = report_options
         .from_s
         .or_else(|| growth.as_ref().ok().map(|g| g.windows.build_up_end_s));
