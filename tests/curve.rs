@@ -25,6 +25,7 @@ use squeal::analysis::per_n::{analyse_ring, check_required, PerNOptions, RingDir
 use squeal::rolling::load_case;
 use squeal::table::Table;
 
+mod common;
 #[allow(dead_code)]
 mod tiny_case;
 use tiny_case::{column, run_in_temp};
@@ -310,16 +311,7 @@ fn the_growth_of_the_committed_curve_runs_by_the_fixed_criteria() {
 #[test]
 fn the_report_of_a_ring_run_opens_with_its_verdict_and_growth_wants_a_ring() {
     let out = std::env::temp_dir().join(format!("squeal_curve_report_{}", std::process::id()));
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_squeal"))
-        .args(["report", "data/runs/curve/curve-falling-10mrad", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        status.status.success(),
-        "{}",
-        String::from_utf8_lossy(&status.stderr)
-    );
+    common::run_squeal(&["report", "data/runs/curve/curve-falling-10mrad"], &out);
     let md = std::fs::read_to_string(out.join("index.md")).unwrap();
     // The first section after the title is the verdict, then the nodal-diameter section.
     let headings: Vec<&str> = md.lines().filter(|l| l.starts_with("## ")).collect();

@@ -115,8 +115,11 @@ fn report_has_every_section_and_file() {
     // The mode table identifies the (0,3) peak of the lateral vibration.
     assert!(md.contains("| (0,3) | Axial |"), "{md}");
     assert!(md.contains("wall_time_s"));
-    // The summary comes first and says whether the squeal modes are among the peaks.
-    assert_eq!(summary.sections[0], "Summary");
+    // The verdict comes first: these runs have no rim ring, and it says so (issue 57); then
+    // the summary, which says whether the squeal modes are among the peaks.
+    assert_eq!(summary.sections[0], "Does the wheel squeal?");
+    assert!(md.contains("no verdict: the run has no rim ring"), "{md}");
+    assert_eq!(summary.sections[1], "Summary");
     assert!(md.contains("(0,3) / (0,4) among them"), "{md}");
     assert!(md.contains("yes / "), "the (0,3) run's verdict: {md}");
     page_loads_as_a_reader_sees_it(&out, &html);

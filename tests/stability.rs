@@ -3,6 +3,7 @@
 //! normalisation, the explicit engine's FE track and its friction; docs/stability.md). Bad
 //! input exit codes: tests/cli_stability.rs.
 
+mod common;
 mod stability_case;
 use stability_case::case3_track;
 
@@ -1301,8 +1302,8 @@ fn degenerate_wheel_mode_pair_grows_along_the_slip_where_one_lateral_mode_is_dam
 #[test]
 fn an_eta_override_takes_mu_and_its_slope_from_the_friction_law_at_the_new_slip() {
     let out = std::env::temp_dir().join(format!("squeal_stability_eta_{}", std::process::id()));
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_squeal"))
-        .args([
+    common::run_squeal(
+        &[
             "stability",
             "--case",
             "data/cases/curve-falling-10mrad.json",
@@ -1313,15 +1314,8 @@ fn an_eta_override_takes_mu_and_its_slope_from_the_friction_law_at_the_new_slip(
             "0.01",
             "--fmax-hz",
             "1000",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        status.status.success(),
-        "{}",
-        String::from_utf8_lossy(&status.stderr)
+        ],
+        &out,
     );
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("stability.json")).unwrap())

@@ -781,6 +781,18 @@ mod tests {
         )
     }
 
+    /// The growth analysis of a 250 ms record whose harmonic 3 follows `grow`, against
+    /// `modes`, by the fixed criteria.
+    fn judge(grow: impl Fn(f64) -> f64, modes: &[ModeRef]) -> RingGrowth {
+        growth_of_records(
+            &[record(0.25, 3, grow)],
+            &creep_force(0.25),
+            modes,
+            &GrowthCriteria::default(),
+        )
+        .unwrap()
+    }
+
     /// `A0 exp(sigma t) cos(2 pi f t)` until it reaches `a_sat`, then `a_sat cos(2 pi f t)`.
     fn exponential_then_saturated(sigma: f64, f_hz: f64, t_sat: f64) -> impl Fn(f64) -> f64 {
         let a_sat = 1e-2;
@@ -859,14 +871,10 @@ mod tests {
     #[test]
     fn a_growth_still_under_way_is_no_limit_cycle() {
         // Saturating at 220 ms, the last span still grows past the one before.
-        let record = record(0.25, 3, exponential_then_saturated(100.0, 1000.0, 0.220));
-        let g = growth_of_records(
-            &[record],
-            &creep_force(0.25),
+        let g = judge(
+            exponential_then_saturated(100.0, 1000.0, 0.220),
             &[axial(0, 3, 1000.0)],
-            &GrowthCriteria::default(),
-        )
-        .unwrap();
+        );
         let h = g.harmonics.iter().find(|h| h.n == 3).unwrap();
         assert!(!h.limit_cycle && h.final_change > 0.1);
         assert!(
@@ -879,14 +887,10 @@ mod tests {
     #[test]
     fn a_growth_at_no_mode_of_its_n_is_no_squeal() {
         // The same growth at 1500 Hz, where harmonic 3 has no mode (only (0,3) at 1000 Hz).
-        let record = record(0.25, 3, exponential_then_saturated(100.0, 1500.0, 0.120));
-        let g = growth_of_records(
-            &[record],
-            &creep_force(0.25),
+        let g = judge(
+            exponential_then_saturated(100.0, 1500.0, 0.120),
             &[axial(0, 3, 1000.0)],
-            &GrowthCriteria::default(),
-        )
-        .unwrap();
+        );
         let h = g.harmonics.iter().find(|h| h.n == 3).unwrap();
         assert!(h.growth_factor > 10.0 && h.final_mode.is_none() && !h.squeals);
         assert!(!g.verdict.squeals);

@@ -104,20 +104,27 @@ pub fn run(args: GrowthArgs) -> Result<()> {
     let md = to_markdown(&g);
     println!("{md}");
     let out = out_dir(args.out, "growth", &input_name(&args.run_dir));
-    // Written beside the output folder and moved into it when complete.
-    let stage = StagedDir::new(&out)?;
-    let dir = stage.path().to_path_buf();
-    let write = |name: &str, text: String| -> Result<()> {
-        let p = dir.join(name);
-        std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
-    };
-    write("growth.md", md)?;
-    write(
-        "growth.json",
-        serde_json::to_string_pretty(&g).map_err(|e| Error::Numerical(e.to_string()))?,
-    )?;
-    write("ridges.csv", ridges_csv(&g))?;
-    println!("wrote {}/growth.{{md,json}} and ridges.csv", out.display());
+    let json = serde_json::to_string_pretty(&g).map_err(|e| Error::Numerical(e.to_string()))?;
+    write_outputs(
+        &out,
+        &[
+            ("growth.md", md),
+            ("growth.json", json),
+            ("ridges.csv", ridges_csv(&g)),
+        ],
+    )
+}
+
+/// Writes `files` (name, text) into the folder `out`: beside it first, moved into it when all
+/// are written; says what it wrote.
+fn write_outputs(out: &std::path::Path, files: &[(&str, String)]) -> Result<()> {
+    let stage = StagedDir::new(out)?;
+    for (name, text) in files {
+        let p = stage.path().join(name);
+        std::fs::write(&p, text).map_err(|e| Error::io(&p, e))?;
+    }
+    let names: Vec<&str> = files.iter().map(|f| f.0).collect();
+    println!("wrote {} into {}", names.join(", "), out.display());
     stage.commit(Commit::Merge)?;
     Ok(())
 }
@@ -136,24 +143,14 @@ fn run_per_n(args: &GrowthArgs) -> Result<()> {
     let md = to_markdown(&g);
     println!("{md}");
     let out = out_dir(args.out.clone(), "growth", &input_name(&args.run_dir));
-    // Written beside the output folder and moved into it when complete.
-    let stage = StagedDir::new(&out)?;
-    let dir = stage.path().to_path_buf();
-    let write = |name: &str, text: String| -> Result<()> {
-        let p = dir.join(name);
-        std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
-    };
-    write("ring_growth.md", md)?;
-    write(
-        "ring_growth.json",
-        serde_json::to_string_pretty(&g).map_err(|e| Error::Numerical(e.to_string()))?,
-    )?;
-    write("ring_envelopes.csv", envelopes_csv(&g))?;
-    write("ring_mode_envelopes.csv", mode_envelopes_csv(&g))?;
-    println!(
-        "wrote {}/ring_growth.{{md,json}}, ring_envelopes.csv, ring_mode_envelopes.csv",
-        out.display()
-    );
-    stage.commit(Commit::Merge)?;
-    Ok(())
+    let json = serde_json::to_string_pretty(&g).map_err(|e| Error::Numerical(e.to_string()))?;
+    write_outputs(
+        &out,
+        &[
+            ("ring_growth.md", md),
+            ("ring_growth.json", json),
+            ("ring_envelopes.csv", envelopes_csv(&g)),
+            ("ring_mode_envelopes.csv", mode_envelopes_csv(&g)),
+        ],
+    )
 }

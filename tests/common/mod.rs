@@ -75,22 +75,29 @@ pub fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
         .install(f)
 }
 
-/// The modes a `squeal` command (`axisym` or `modes`, with `args`) writes into `out`, read
-/// back from its `modes.json`.
-pub fn squeal_modes(
-    args: &[&str],
-    out: &std::path::Path,
-) -> Vec<squeal::analysis::identify::ModeRef> {
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_squeal"))
+/// Runs the `squeal` binary with `args`, then `--out out`; panics with its stderr unless it
+/// succeeds.
+pub fn run_squeal(args: &[&str], out: &std::path::Path) -> std::process::Output {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_squeal"))
         .args(args)
         .arg("--out")
         .arg(out)
         .output()
         .unwrap();
     assert!(
-        status.status.success(),
+        output.status.success(),
         "{}",
-        String::from_utf8_lossy(&status.stderr)
+        String::from_utf8_lossy(&output.stderr)
     );
+    output
+}
+
+/// The modes a `squeal` command (`axisym` or `modes`, with `args`) writes into `out`, read
+/// back from its `modes.json`.
+pub fn squeal_modes(
+    args: &[&str],
+    out: &std::path::Path,
+) -> Vec<squeal::analysis::identify::ModeRef> {
+    run_squeal(args, out);
     squeal::modal::mode::read_modes_json(&out.join("modes.json")).unwrap()
 }
