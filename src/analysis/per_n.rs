@@ -514,7 +514,7 @@ pub fn peaks_markdown(a: &PerNAnalysis) -> String {
         let (label, family, f_mode, diff) = match &p.mode {
             Some(m) => (
                 format!("({},{})", m.nodal_circles, m.nodal_diameters),
-                format!("{:?}", m.family).to_lowercase(),
+                m.family.word().to_string(),
                 format!("{:.1}", m.frequency_hz),
                 format!("{:+.2}", p.difference_percent.unwrap_or(f64::NAN)),
             ),
@@ -537,7 +537,7 @@ pub fn peaks_csv(a: &PerNAnalysis) -> String {
         let (label, family, f_mode, diff) = match &p.mode {
             Some(m) => (
                 format!("\"({},{})\"", m.nodal_circles, m.nodal_diameters),
-                format!("{:?}", m.family).to_lowercase(),
+                m.family.word().to_string(),
                 format!("{}", m.frequency_hz),
                 format!("{}", p.difference_percent.unwrap_or(f64::NAN)),
             ),

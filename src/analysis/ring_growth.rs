@@ -137,7 +137,7 @@ impl HarmonicGrowth {
     /// "(0,3) axial" or "n = 3 (unnamed)".
     pub fn mode_name(&self) -> String {
         match &self.final_mode {
-            Some(m) => format!("{} {}", m.label(), format!("{:?}", m.family).to_lowercase()),
+            Some(m) => format!("{} {}", m.label(), m.family.word()),
             None => format!("n = {} (unnamed)", self.n),
         }
     }
@@ -635,7 +635,7 @@ pub fn mode_envelopes_csv(g: &RingGrowth) -> String {
             m.direction.word(),
             m.mode.nodal_circles,
             m.mode.nodal_diameters,
-            format!("{:?}", m.mode.family).to_lowercase(),
+            m.mode.family.word(),
             m.mode.frequency_hz
         ));
     }

@@ -33,6 +33,20 @@ pub enum ModeFamily {
     Rigid,
 }
 
+impl ModeFamily {
+    /// The family's name as `modes.json` writes it: "axial", "radial", "circumferential",
+    /// "axle", "rigid".
+    pub fn word(self) -> &'static str {
+        match self {
+            ModeFamily::Axial => "axial",
+            ModeFamily::Radial => "radial",
+            ModeFamily::Circumferential => "circumferential",
+            ModeFamily::Axle => "axle",
+            ModeFamily::Rigid => "rigid",
+        }
+    }
+}
+
 /// A wheel mode as the identification needs it (written by the modal module as `modes.json`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ModeRef {
@@ -70,4 +84,26 @@ pub fn write_modes_json<T: Serialize>(dir: &Path, modes: &[T]) -> Result<PathBuf
 /// the bad field.
 pub fn read_modes_json(path: &Path) -> Result<Vec<ModeRef>> {
     crate::input::read_json(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The names agree with what serde writes into `modes.json` (`rename_all = "lowercase"`).
+    #[test]
+    fn family_words_are_the_names_modes_json_writes() {
+        for f in [
+            ModeFamily::Axial,
+            ModeFamily::Radial,
+            ModeFamily::Circumferential,
+            ModeFamily::Axle,
+            ModeFamily::Rigid,
+        ] {
+            assert_eq!(
+                serde_json::to_string(&f).unwrap(),
+                format!("\"{}\"", f.word())
+            );
+        }
+    }
 }
