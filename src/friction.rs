@@ -1,6 +1,7 @@
 //! Friction laws of the contact (Yang & Li 2019): a constant Coulomb coefficient, or falling
 //! friction `mu(v) = mu_d + (mu_s - mu_d) exp(-c |v|)` of the slip speed v; and the one check of
-//! a friction coefficient that the contact, Kalker's theory and the command line share.
+//! a friction coefficient that the contact, Kalker's theory and the command line share; and
+//! which slip speed a falling law reads in the explicit contact ([`SlipSpeed`]).
 
 use serde::{Deserialize, Serialize};
 
@@ -46,6 +47,45 @@ pub enum FrictionLaw {
         /// Decay `c` (s/m).
         decay_s_per_m: f64,
     },
+}
+
+/// The slip speed `v` at which the explicit contact evaluates a velocity-dependent law.
+///
+/// `Node` (the default, LS-DYNA's and the paper's way): each slave node's own relative
+/// tangential speed in the last step. With a falling law every node then carries a negative
+/// damping `N_node |dmu/dv|` of its own against its tangential penalty spring and its nodal mass:
+/// an oscillator at `sqrt(k / m)` (tens of kHz) that the falling slope drives into stick-slip
+/// whatever the patch does (E. Vollebregt's objection to Zhao & Li 2016, on a 1D slider; in
+/// the 10 mrad curve run the nodes slide at 0.15-0.22 m/s where the wheel slides at 0.083 m/s,
+/// docs/curving.md). The law measured on a tribometer or fitted to creep curves (the paper's
+/// 0.5 / 0.32 / 6 s/m) is a law of the sliding of the whole contact, not of a node.
+///
+/// `Patch`: every node reads the patch's sliding velocity, the normal-force-weighted mean of
+/// the slaves' slip velocity vectors in the last step, `v = |sum_i N_i v_i| / sum_i N_i`. The
+/// nodes' own oscillations cancel in the mean; the patch's sliding, and with it the wheel's
+/// vibration at the contact, still sets `mu`: the route by which falling friction drives a
+/// wheel mode in curve-squeal models, which take the friction coefficient at the contact's
+/// sliding velocity, the creepage's plus the wheel's vibration velocity (Heckl & Abrahams,
+/// J. Sound Vib. 229, 2000). One contact patch per pair:
+/// two patches (tread and flange) would be averaged together.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SlipSpeed {
+    /// Each node's own slip speed.
+    #[default]
+    Node,
+    /// The patch's mean sliding velocity, one for all nodes.
+    Patch,
+}
+
+impl SlipSpeed {
+    /// The word a case file uses.
+    pub fn word(self) -> &'static str {
+        match self {
+            SlipSpeed::Node => "node",
+            SlipSpeed::Patch => "patch",
+        }
+    }
 }
 
 impl FrictionLaw {

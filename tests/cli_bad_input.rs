@@ -65,6 +65,9 @@ fn fixtures() -> PathBuf {
     write_case("step2.json", &|c| {
         c["time_stepping"] = serde_json::json!({"step_scale": 2.0})
     });
+    write_case("slip.json", &|c| {
+        c["friction_slip_speed"] = "contact".into()
+    });
     dir
 }
 
@@ -107,6 +110,7 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let run = fx.join("run").display().to_string();
     let norun = fx.join("norun").display().to_string();
     let missing = fx.join("missing.json").display().to_string();
+    let slip = fx.join("slip.json").display().to_string();
     let aoa60 = fx.join("aoa60.json").display().to_string();
     let ring20 = fx.join("ring20.json").display().to_string();
     let ring7 = fx.join("ring7.json").display().to_string();
@@ -992,6 +996,11 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["simulate", "--case", &step2, "--out", "o"],
             2,
             vec!["step2.json", "time_stepping.step_scale", "[0.05, 1]"],
+        ),
+        (
+            vec!["simulate", "--case", &slip, "--out", "o"],
+            2,
+            vec!["slip.json", "friction_slip_speed", "node", "patch"],
         ),
         (
             vec!["simulate", "--case", &aoa60, "--out", "o"],

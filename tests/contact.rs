@@ -3,7 +3,7 @@
 //! friction, never exceeds the traction bound, and a pressed block carries its load.
 use std::collections::BTreeMap;
 
-use squeal::contact::{ContactPair, FrictionLaw};
+use squeal::contact::{ContactPair, FrictionLaw, SlipSpeed};
 use squeal::explicit::element::{ElasticMaterial, Formulation};
 use squeal::explicit::model::Model;
 use squeal::explicit::preload::{relax, PreloadOptions};
@@ -165,14 +165,23 @@ fn sliding_block_decelerates_at_mu_g() {
 
 /// Falling friction (mu_s 0.5, mu_d 0.32, c 6 s/m): while the block slows down from 1 m/s the
 /// measured force ratio follows mu(v) at the block's slip speed.
+/// The same with the law read at the patch's sliding velocity (`SlipSpeed::Patch`): the block
+/// slides as a whole, so the two must agree.
 #[test]
 fn falling_friction_follows_mu_of_v() {
+    for slip_speed in [SlipSpeed::Node, SlipSpeed::Patch] {
+        falling_friction_follows_mu_of_v_with(slip_speed);
+    }
+}
+
+fn falling_friction_follows_mu_of_v_with(slip_speed: SlipSpeed) {
     let law = FrictionLaw::Falling {
         mu_static: 0.5,
         mu_dynamic: 0.32,
         decay_s_per_m: 6.0,
     };
     let mut st = setup(law, 0.0);
+    st.pair.slip_speed = slip_speed;
     relax(&mut st.solver, &mut st.pair, contact_preload()).unwrap();
     for &n in &st.block {
         st.solver.v[n][0] = 1.0;
@@ -191,7 +200,7 @@ fn falling_friction_follows_mu_of_v() {
             // 2 %: node slip speeds differ slightly from the block's mean velocity as it rocks.
             assert!(
                 (measured / expected - 1.0).abs() < 0.02,
-                "v {v}: {measured} vs mu(v) {expected}"
+                "{slip_speed:?}, v {v}: {measured} vs mu(v) {expected}"
             );
             checked += 1;
         }
@@ -573,4 +582,93 @@ fn an_area_penalty_carries_the_same_pressure_on_any_mesh() {
         (growth - 49.0 / 9.0).abs() < 1e-6,
         "segment penalty: {growth}"
     );
+}
+
+/// The patch's sliding velocity (`SlipSpeed::Patch`) against its definition, by hand: a
+/// 3 x 3-node block bottom pressed 10 um into the plate with a penalty per unit area (so the
+/// corner, edge and centre slaves carry normal forces in the ratio 1 : 2 : 4), each slave
+/// slipping at its own velocity. After one step the patch velocity is `sum N_i v_i / sum N_i`
+/// (to rounding); in the next step every slave's coefficient is `mu` at that velocity's
+/// magnitude under `Patch`, and at its own speed under `Node`. The velocity travels with the
+/// checkpoint; a checkpoint of the earlier layout (slaves only) restores it as zero.
+#[test]
+fn the_patch_slip_speed_is_the_normal_force_weighted_mean_velocity() {
+    let law = FrictionLaw::Falling {
+        mu_static: 0.5,
+        mu_dynamic: 0.32,
+        decay_s_per_m: 6.0,
+    };
+    let (mesh, slaves, faces, _) = common::block_on_plate(
+        [30, 10, 1],
+        [0.6, 0.2, 0.02],
+        [2, 2, 1],
+        [0.05, 0.05, 0.02],
+        [0.1, 0.075],
+        2,
+    );
+    let mut u: Vec<P3> = vec![[0.0; 3]; mesh.nodes.len()];
+    let mut v: Vec<P3> = vec![[0.0; 3]; mesh.nodes.len()];
+    for (i, &n) in slaves.iter().enumerate() {
+        u[n][2] = -1e-5;
+        v[n] = [0.02 + 0.05 * i as f64, 0.01 * i as f64, 0.0];
+    }
+    for slip_speed in [SlipSpeed::Node, SlipSpeed::Patch] {
+        let mut pair = steel_pair(&mesh, slaves.clone(), faces.clone(), 0.1, law);
+        pair.use_area_penalty(bulk_modulus(), 0.005);
+        pair.slip_speed = slip_speed;
+        let mut force = vec![[0.0; 3]; mesh.nodes.len()];
+        pair.add_forces(0.0, 1e-7, &u, &v, &mut force);
+        let (mut weighted, mut normal_sum) = ([0.0; 3], 0.0);
+        for (st, &n) in pair.state.iter().zip(&slaves) {
+            assert!(st.active);
+            for d in 0..3 {
+                weighted[d] += st.normal_force_n * v[n][d];
+            }
+            normal_sum += st.normal_force_n;
+        }
+        let largest = pair
+            .state
+            .iter()
+            .map(|s| s.normal_force_n)
+            .fold(0.0, f64::max);
+        let smallest = pair
+            .state
+            .iter()
+            .map(|s| s.normal_force_n)
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            (largest / smallest - 4.0).abs() < 1e-9,
+            "{largest} / {smallest}"
+        );
+        let mean = weighted.map(|c| c / normal_sum);
+        let patch = pair.patch_slip_velocity_m_per_s();
+        for d in 0..3 {
+            assert!((patch[d] - mean[d]).abs() < 1e-14, "{patch:?} vs {mean:?}");
+        }
+        pair.add_forces(0.0, 1e-7, &u, &v, &mut force);
+        let patch_speed = (mean[0] * mean[0] + mean[1] * mean[1]).sqrt();
+        for (st, &n) in pair.state.iter().zip(&slaves) {
+            let own_speed = (v[n][0] * v[n][0] + v[n][1] * v[n][1]).sqrt();
+            let expected = match slip_speed {
+                SlipSpeed::Node => law.mu(own_speed),
+                SlipSpeed::Patch => law.mu(patch_speed),
+            };
+            assert!(
+                (st.mu - expected).abs() < 1e-14,
+                "{slip_speed:?}: {} vs {expected}",
+                st.mu
+            );
+        }
+        // Checkpoint round trip, and the earlier layout.
+        let saved = pair.checkpoint_state();
+        let mut fresh = steel_pair(&mesh, slaves.clone(), faces.clone(), 0.1, law);
+        fresh.restore_state(&saved).unwrap();
+        assert_eq!(
+            fresh.patch_slip_velocity_m_per_s(),
+            pair.patch_slip_velocity_m_per_s()
+        );
+        fresh.restore_state(&saved[..4 * slaves.len()]).unwrap();
+        assert_eq!(fresh.patch_slip_velocity_m_per_s(), [0.0; 3]);
+        assert!(fresh.restore_state(&saved[..4 * slaves.len() - 1]).is_err());
+    }
 }

@@ -16,7 +16,9 @@
 //! 4. friction: trial force `f* = f_T(t) - k de` from the tangential movement `de` of the node
 //!    relative to the master surface during the step, traction bound `mu |f_N|`, and return to
 //!    the bound when exceeded; `mu` constant or falling, `mu(v) = mu_d + (mu_s - mu_d) exp(-c |v|)`
-//!    with `v = |de| / dt`, evaluated per node per step;
+//!    with `v = |de| / dt` per node per step, or with one `v` for all, the patch's mean sliding
+//!    velocity of the last step ([`SlipSpeed`]: why the node's own speed makes each node an
+//!    oscillator of its own);
 //! 5. the reaction goes to the face's four nodes with the bilinear weights of the projection.
 //!
 //! The engine's time step must stay below `min sqrt(m / k)` over the slaves; [`ContactPair::time_step_bound_s`]
@@ -42,7 +44,7 @@ use grid::BucketGrid;
 pub use region::ContactSearch;
 use region::{Region, SlaveForce, NO_FORCE};
 
-pub use crate::friction::FrictionLaw;
+pub use crate::friction::{FrictionLaw, SlipSpeed};
 
 /// Per-slave contact state (what the patch output reads).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -88,6 +90,12 @@ pub struct ContactPair {
     pub slave_penalty_n_per_m: Option<Vec<f64>>,
     /// Friction law.
     pub friction: FrictionLaw,
+    /// Which slip speed the law reads: each node's own (default) or the patch's.
+    pub slip_speed: SlipSpeed,
+    /// The patch's sliding velocity of the last step with a slave in contact (m/s): the
+    /// normal-force-weighted mean of the active slaves' slip velocities ([`SlipSpeed::Patch`];
+    /// zero before any contact and after a frictionless phase).
+    patch_slip_velocity_m_per_s: P3,
     /// Per-slave state.
     pub state: Vec<SlaveState>,
     /// Penalty scale factor `s` of `k = s K A^2 / V`.
@@ -192,6 +200,8 @@ struct SlaveContext<'a> {
     slave_penalty_n_per_m: Option<&'a [f64]>,
     slave_stiffness_cap: &'a [f64],
     friction: &'a FrictionLaw,
+    /// The patch's slip speed when every node reads it ([`SlipSpeed::Patch`]); None: each its own.
+    patch_slip_speed_m_per_s: Option<f64>,
     search_margin_m: f64,
     reference: &'a [P3],
     slaves: &'a [usize],
@@ -263,7 +273,9 @@ impl SlaveContext<'_> {
         let vt = [vr[0] - vn * n[0], vr[1] - vn * n[1], vr[2] - vn * n[2]];
         let de = vt.map(|c| c * dt_s);
         let slip_speed = dot(vt, vt).sqrt();
-        let mu = self.friction.mu(slip_speed);
+        let mu = self
+            .friction
+            .mu(self.patch_slip_speed_m_per_s.unwrap_or(slip_speed));
         // Previous tangential force, rotated into the current tangent plane (magnitude kept).
         let ft_old = if st.active {
             st.tangential_force_n
@@ -414,6 +426,8 @@ impl ContactPair {
             face_stiffness_n_per_m: stiffness,
             slave_penalty_n_per_m: None,
             friction,
+            slip_speed: SlipSpeed::Node,
+            patch_slip_velocity_m_per_s: [0.0; 3],
             state: vec![SlaveState::default(); n_slaves],
             penalty_scale,
             largest_shear_over_bound: 0.0,
@@ -685,6 +699,12 @@ impl ContactPair {
         self.region.valid = false;
     }
 
+    /// The patch's sliding velocity of the last step (m/s): the normal-force-weighted mean of
+    /// the active slaves' slip velocities, which [`SlipSpeed::Patch`] evaluates the law at.
+    pub fn patch_slip_velocity_m_per_s(&self) -> P3 {
+        self.patch_slip_velocity_m_per_s
+    }
+
     /// Slaves searched in the last step (all of them with [`ContactSearch::Full`]).
     pub fn searched_slaves(&self) -> usize {
         self.region.slaves.len()
@@ -733,6 +753,7 @@ impl ContactPair {
     /// leave stick forces behind.
     pub fn resume_friction(&mut self, law: FrictionLaw) {
         self.friction = law;
+        self.patch_slip_velocity_m_per_s = [0.0; 3];
         for st in self.state.iter_mut() {
             st.tangential_force_n = [0.0; 3];
             st.mu = law.mu(0.0);
@@ -847,6 +868,13 @@ impl AuxForces for ContactPair {
             slave_penalty_n_per_m: self.slave_penalty_n_per_m.as_deref(),
             slave_stiffness_cap: &self.slave_stiffness_cap,
             friction: &self.friction,
+            patch_slip_speed_m_per_s: match self.slip_speed {
+                SlipSpeed::Node => None,
+                SlipSpeed::Patch => {
+                    let v = self.patch_slip_velocity_m_per_s;
+                    Some(dot(v, v).sqrt())
+                }
+            },
             search_margin_m: self.search_margin_m,
             reference: &self.reference,
             slaves: &self.slaves,
@@ -878,6 +906,9 @@ impl AuxForces for ContactPair {
         // in slave order as a loop over every slave would.
         let (mut largest_ratio, mut deepest) =
             (self.largest_shear_over_bound, self.deepest_penetration_m);
+        // The patch's sliding velocity for the next step, summed in slave order (serially, so
+        // that it does not depend on the thread count).
+        let (mut weighted_slip, mut normal_sum) = ([0.0; 3], 0.0);
         for &k in &self.region.slaves {
             let k = k as usize;
             let s = self.slaves[k];
@@ -898,6 +929,10 @@ impl AuxForces for ContactPair {
             largest_ratio = largest_ratio.max(ratio);
             deepest = deepest.max(st.penetration_m);
             for d in 0..3 {
+                weighted_slip[d] += st.normal_force_n * st.slip_velocity_m_per_s[d];
+            }
+            normal_sum += st.normal_force_n;
+            for d in 0..3 {
                 force[s][d] += f[d];
             }
             let face = self.faces[fi as usize];
@@ -909,6 +944,12 @@ impl AuxForces for ContactPair {
         }
         self.largest_shear_over_bound = largest_ratio;
         self.deepest_penetration_m = deepest;
+        // A step with no slave in contact (a block chattering on its penalty springs) has no
+        // sliding velocity of its own: the last one holds, rather than the static coefficient
+        // for the slaves that touch down next.
+        if normal_sum > 0.0 {
+            self.patch_slip_velocity_m_per_s = weighted_slip.map(|c| c / normal_sum);
+        }
     }
 
     /// One term per active slave: `kf b bᵀ` with `b = n` on the slave and `-w_j n` on the face's
@@ -945,24 +986,36 @@ impl AuxForces for ContactPair {
         }
     }
 
+    /// Per slave: active, tangential force; then the patch's sliding velocity (which the next
+    /// step's friction reads under [`SlipSpeed::Patch`]).
     fn checkpoint_state(&self) -> Vec<f64> {
-        let mut out = Vec::with_capacity(self.state.len() * 4);
+        let mut out = Vec::with_capacity(self.state.len() * 4 + 3);
         for s in &self.state {
             out.push(if s.active { 1.0 } else { 0.0 });
             out.extend_from_slice(&s.tangential_force_n);
         }
+        out.extend_from_slice(&self.patch_slip_velocity_m_per_s);
         out
     }
 
+    /// Reads [`AuxForces::checkpoint_state`]'s layout, or the slaves' part alone (checkpoints of
+    /// earlier versions, which had no patch velocity: it restarts from zero, which only
+    /// [`SlipSpeed::Patch`] reads).
     fn restore_state(&mut self, state: &[f64]) -> Result<()> {
-        if state.len() != 4 * self.state.len() {
+        let slaves_len = 4 * self.state.len();
+        if state.len() == slaves_len + 3 {
+            let v = &state[slaves_len..];
+            self.patch_slip_velocity_m_per_s = [v[0], v[1], v[2]];
+        } else if state.len() == slaves_len {
+            self.patch_slip_velocity_m_per_s = [0.0; 3];
+        } else {
             return Err(Error::input(
                 "checkpoint",
                 "contact",
                 "checkpoint holds another contact pair",
             ));
         }
-        for (s, chunk) in self.state.iter_mut().zip(state.chunks(4)) {
+        for (s, chunk) in self.state.iter_mut().zip(state[..slaves_len].chunks(4)) {
             s.active = chunk[0] > 0.5;
             s.tangential_force_n = [chunk[1], chunk[2], chunk[3]];
         }

@@ -11,7 +11,12 @@ use serde::{Deserialize, Serialize};
 
 pub use super::lateral::{LateralMotion, LateralRamp, LateralTable};
 pub use super::time_stepping::{MultiRateMode, TimeSteppingSpec};
-use crate::friction::FrictionLaw;
+use crate::friction::{FrictionLaw, SlipSpeed};
+
+/// Leaves the default slip speed out of written cases (run.json), as before the field existed.
+fn is_node_slip(s: &SlipSpeed) -> bool {
+    *s == SlipSpeed::Node
+}
 use crate::input::Checker;
 use crate::scenario::LoadedScenario;
 use crate::{Error, Result};
@@ -240,6 +245,11 @@ pub struct RollingCase {
     pub curving: Option<CurvingSpec>,
     /// Friction law.
     pub friction: FrictionLaw,
+    /// Which slip speed a falling friction law reads in the contact: `node` (each node's own,
+    /// the default and the paper's) or `patch` (the patch's mean sliding velocity, one for all
+    /// nodes; [`SlipSpeed`] says why). No effect on a constant coefficient.
+    #[serde(default, skip_serializing_if = "is_node_slip")]
+    pub friction_slip_speed: SlipSpeed,
     /// Penalty scale factor `s` in `k = s K A^2 / V`.
     pub penalty_scale: f64,
     /// A penalty per unit area (mm): each slave's stiffness `s K A_s / L` from its tributary

@@ -166,6 +166,7 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
         c.friction,
     )
     .map_err(|e| Error::input(&source, "penalty_scale / friction", e.to_string()))?;
+    pair.slip_speed = case.friction_slip_speed;
     if let Some(length_mm) = case.penalty_length_mm {
         pair.use_area_penalty(c.bulk_modulus_pa, length_mm * 1e-3);
     }
