@@ -31,7 +31,7 @@ pub fn check_coefficient(mu: f64, source: &str, field: &str, zero_allowed: bool)
 
 /// Friction law.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "law", rename_all = "snake_case")]
+#[serde(tag = "law", rename_all = "snake_case", deny_unknown_fields)]
 pub enum FrictionLaw {
     /// Constant coefficient.
     Coulomb {

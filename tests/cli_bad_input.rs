@@ -68,6 +68,7 @@ fn fixtures() -> PathBuf {
     write_case("slip.json", &|c| {
         c["friction_slip_speed"] = "contact".into()
     });
+    write_case("frkey.json", &|c| c["friction"]["mu_typo"] = 0.3.into());
     dir
 }
 
@@ -111,6 +112,7 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let norun = fx.join("norun").display().to_string();
     let missing = fx.join("missing.json").display().to_string();
     let slip = fx.join("slip.json").display().to_string();
+    let frkey = fx.join("frkey.json").display().to_string();
     let aoa60 = fx.join("aoa60.json").display().to_string();
     let ring20 = fx.join("ring20.json").display().to_string();
     let ring7 = fx.join("ring7.json").display().to_string();
@@ -996,6 +998,16 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["simulate", "--case", &step2, "--out", "o"],
             2,
             vec!["step2.json", "time_stepping.step_scale", "[0.05, 1]"],
+        ),
+        (
+            vec!["simulate", "--case", &frkey, "--out", "o"],
+            2,
+            vec![
+                "frkey.json",
+                "friction",
+                "unknown field `mu_typo`",
+                "expected",
+            ],
         ),
         (
             vec!["simulate", "--case", &slip, "--out", "o"],

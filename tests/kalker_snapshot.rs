@@ -281,5 +281,19 @@ fn compare_command_writes_maps_and_rejects_bad_snapshots() {
     let b = run(&bad_path);
     assert_eq!(b.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&b.stderr).contains("bad.json"));
+    // A key the snapshot format does not have (a typo of a field) is refused by name, as every
+    // other input object refuses one, rather than read as absent.
+    let mut typo: serde_json::Value =
+        serde_json::to_value(snapshot_from_kalker(-1e-3, 0.0, 0.0)).expect("json");
+    typo["normal_lateral_fractoin"] = 0.05.into();
+    let typo_path = dir.join("typo.json");
+    std::fs::write(&typo_path, typo.to_string()).expect("write");
+    let t = run(&typo_path);
+    assert_eq!(t.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&t.stderr);
+    assert!(
+        err.contains("typo.json") && err.contains("normal_lateral_fractoin"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -19,6 +19,7 @@ use crate::{Error, Result};
 
 /// One slave node of an FE contact patch.
 #[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct PatchPoint {
     /// Position in the patch, rolling direction (m), relative to the patch centre.
     pub x_m: f64,
@@ -32,6 +33,7 @@ pub struct PatchPoint {
 
 /// An FE contact-patch snapshot (what the rolling-contact simulator writes per instant).
 #[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct PatchSnapshot {
     /// Time of the snapshot (s).
     pub time_s: f64,
