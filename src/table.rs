@@ -52,6 +52,30 @@ pub struct Table {
     pub columns: Vec<Vec<f64>>,
 }
 
+/// Refuses a header that names a column twice: a reader takes the first of the two, silently
+/// (issue 53, item 11). `source` names the file.
+pub fn check_unique_headers<'a>(
+    source: &str,
+    headers: impl Iterator<Item = &'a str>,
+) -> Result<()> {
+    let mut seen: Vec<&str> = Vec::new();
+    for (k, h) in headers.enumerate() {
+        if let Some(first) = seen.iter().position(|s| *s == h) {
+            return Err(Error::input(
+                source,
+                "header",
+                format!(
+                    "column `{h}` appears twice (columns {} and {}): each name must appear once",
+                    first + 1,
+                    k + 1
+                ),
+            ));
+        }
+        seen.push(h);
+    }
+    Ok(())
+}
+
 impl Table {
     /// Read a numeric CSV file with a `time_s` column.
     pub fn read(path: &Path) -> Result<Table> {
@@ -66,7 +90,7 @@ impl Table {
         Ok(table)
     }
 
-    /// Read a numeric CSV file (any columns).
+    /// Read a numeric CSV file (any columns; each name once).
     pub fn read_numeric(path: &Path) -> Result<Table> {
         check_table_file(path)?;
         let name = path.display().to_string();
@@ -80,6 +104,7 @@ impl Table {
             .iter()
             .map(str::to_string)
             .collect();
+        check_unique_headers(&name, headers.iter().map(String::as_str))?;
         let mut columns = vec![Vec::new(); headers.len()];
         for (line, rec) in reader.records().enumerate() {
             let rec =

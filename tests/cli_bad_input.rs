@@ -22,6 +22,40 @@ fn fixtures() -> PathBuf {
     std::fs::write(dir.join("header.csv"), "time_s,x_m\n").unwrap();
     std::fs::write(dir.join("empty.csv"), "").unwrap();
     std::fs::write(dir.join("bad.json"), "{ not json").unwrap();
+    // Item 11: a PSD that overflows, a header naming a column twice.
+    let mut big = String::from("time_s,x_m\n");
+    for i in 0..64 {
+        big.push_str(&format!(
+            "{},{}\n",
+            i as f64 * 1e-4,
+            if i % 2 == 0 { 1e308 } else { -1e308 }
+        ));
+    }
+    std::fs::write(dir.join("big.csv"), big).unwrap();
+    std::fs::write(
+        dir.join("twice.csv"),
+        csv.replacen("time_s,x_m", "time_s,x_m,x_m", 1)
+            .lines()
+            .enumerate()
+            .map(|(k, l)| {
+                if k == 0 {
+                    l.to_string()
+                } else {
+                    format!("{l},0")
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n"),
+    )
+    .unwrap();
+    // A ring run (data/runs/ring/case1-demo) whose run.json is garbage.
+    let ring_run = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/runs/ring/case1-demo");
+    let garbage = dir.join("garbage");
+    std::fs::create_dir_all(&garbage).unwrap();
+    for f in ["histories.csv", "modes.json"] {
+        std::fs::copy(ring_run.join(f), garbage.join(f)).unwrap();
+    }
+    std::fs::write(garbage.join("run.json"), "{ garbage").unwrap();
     let run = dir.join("run");
     std::fs::create_dir_all(&run).unwrap();
     let mut h = String::from("time_s,lateral_rim_velocity_m_per_s\n");
@@ -111,6 +145,13 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let run = fx.join("run").display().to_string();
     let norun = fx.join("norun").display().to_string();
     let missing = fx.join("missing.json").display().to_string();
+    let big = fx.join("big.csv").display().to_string();
+    let twice = fx.join("twice.csv").display().to_string();
+    let garbage = fx.join("garbage").display().to_string();
+    let ring_run = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("data/runs/ring/case1-demo")
+        .display()
+        .to_string();
     let slip = fx.join("slip.json").display().to_string();
     let frkey = fx.join("frkey.json").display().to_string();
     let aoa60 = fx.join("aoa60.json").display().to_string();
@@ -528,6 +569,32 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["growth", &run, "--window-ms", "-4", "--out", "o"],
             2,
             vec!["--window-ms"],
+        ),
+        // Issue 53, item 11: what used to pass silently.
+        (
+            vec!["psd", &big, "--column", "x_m", "--out", "o"],
+            2,
+            vec!["big.csv", "overflows"],
+        ),
+        (
+            vec!["psd", &twice, "--column", "x_m", "--out", "o"],
+            2,
+            vec!["twice.csv", "`x_m` appears twice"],
+        ),
+        (
+            vec!["identify", &garbage, "--out", "o"],
+            2,
+            vec!["run.json"],
+        ),
+        (
+            vec!["growth", &ring_run, "--from-ms", "-5", "--out", "o"],
+            2,
+            vec!["--from-ms", "-5 ms"],
+        ),
+        (
+            vec!["growth", &ring_run, "--window-ms", "100", "--out", "o"],
+            2,
+            vec!["--window-ms", "longer than the record"],
         ),
         (
             vec!["growth", &run, "--mode", "3", "--out", "o"],

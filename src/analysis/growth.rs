@@ -220,6 +220,19 @@ fn check_growth_request(
             format!("must be > 0 (got {} ms)", window_s * 1e3),
         ));
     }
+    let record_end_s = series.start_time_s + (series.values.len() as f64 - 1.0) / fs;
+    if !(from_s.is_finite() && from_s >= series.start_time_s - 0.5 / fs) {
+        return Err(Error::input(
+            "command line",
+            "--from-ms",
+            format!(
+                "{} ms lies before the record: must lie in [{:.3}, {:.3}] ms (16 samples before its end)",
+                from_s * 1e3,
+                series.start_time_s * 1e3,
+                (record_end_s - 15.0 / fs) * 1e3
+            ),
+        ));
+    }
     let start = ((from_s - series.start_time_s) * fs - 1e-6).ceil().max(0.0) as usize;
     if start + 16 > series.values.len() {
         return Err(Error::input(
@@ -228,6 +241,23 @@ fn check_growth_request(
             format!(
                 "the analysis must start at least 16 samples before the record ends ({:.3} ms)",
                 (series.start_time_s + series.values.len() as f64 / fs) * 1e3
+            ),
+        ));
+    }
+    // Each growth rate is fitted over one window: a window longer than the record analysed
+    // would leave an empty table that reads as "nothing grows".
+    let analysed_s = record_end_s - (series.start_time_s + start as f64 / fs);
+    if window_s > analysed_s {
+        return Err(Error::input(
+            "command line",
+            "--window-ms",
+            format!(
+                "{} ms is longer than the record analysed ({:.3} ms, from {:.3} ms to its end): \
+                 must lie in (0, {:.3}] ms",
+                window_s * 1e3,
+                analysed_s * 1e3,
+                (series.start_time_s + start as f64 / fs) * 1e3,
+                analysed_s * 1e3
             ),
         ));
     }

@@ -213,7 +213,7 @@ pub fn analyse_run(run_dir: &Path, options: &AnalysisOptions) -> Result<RunAnaly
     }
     let (from_s, start_from) = match options.from_s {
         Some(t) => (t, "--from-ms".to_string()),
-        None => match lateral_onset_s(run_dir) {
+        None => match lateral_onset_s(run_dir)? {
             Some(t) => (t, "the lateral-motion onset (run.json)".to_string()),
             None => (series.start_time_s, "the first sample".to_string()),
         },
@@ -311,14 +311,30 @@ pub fn rim_ratio(point: &Psd, mean: &Psd, f_hz: f64) -> f64 {
     }
 }
 
-/// The lateral-motion onset of a rolling run, from `run.json` (`settings.lateral_motion`).
-pub fn lateral_onset_s(run_dir: &Path) -> Option<f64> {
+/// The lateral-motion onset of a rolling run, from `run.json` (`settings.lateral_motion`):
+/// None when the directory has no `run.json` (a history from elsewhere) or the run has no
+/// lateral motion. A `run.json` that is not JSON, or whose lateral motion does not read, is an
+/// input error naming it: analysing from the first sample instead would silently change the
+/// window (issue 53, item 11).
+pub fn lateral_onset_s(run_dir: &Path) -> Result<Option<f64>> {
     let path = run_dir.join("run.json");
-    let record: serde_json::Value = read_json(&path).ok()?;
-    let motion = record.get("settings")?.get("lateral_motion")?;
-    let motion: crate::model::lateral::LateralMotion =
-        serde_json::from_value(motion.clone()).ok()?;
-    Some(motion.onset_s())
+    if !path.exists() {
+        return Ok(None);
+    }
+    let record: serde_json::Value = read_json(&path)?;
+    let motion = match record.get("settings").and_then(|s| s.get("lateral_motion")) {
+        None | Some(serde_json::Value::Null) => return Ok(None),
+        Some(m) => m,
+    };
+    let motion: crate::model::lateral::LateralMotion = serde_json::from_value(motion.clone())
+        .map_err(|e| {
+            Error::input(
+                path.display().to_string(),
+                "settings.lateral_motion",
+                format!("does not read as a lateral motion: {e}"),
+            )
+        })?;
+    Ok(Some(motion.onset_s()))
 }
 
 /// Sample indices of the window `[from_s, to_s]` of a series; errors name the option.

@@ -98,7 +98,7 @@ pub fn run(args: GrowthArgs) -> Result<()> {
     let series = read_column(&args.run_dir, &args.column)?;
     let from_s = match args.from_ms {
         Some(t) => t * 1e-3,
-        None => squeal::analysis::lateral_onset_s(&args.run_dir).unwrap_or(series.start_time_s),
+        None => squeal::analysis::lateral_onset_s(&args.run_dir)?.unwrap_or(series.start_time_s),
     };
     let g = band_growth(&series, &bands, from_s, args.window_ms * 1e-3)?;
     let md = to_markdown(&g);

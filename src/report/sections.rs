@@ -713,7 +713,7 @@ pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
             let series = crate::analysis::growth::read_column(&r.dir, column)?;
             let from_s = report_options
                 .from_s
-                .or_else(|| crate::analysis::lateral_onset_s(&r.dir))
+                .or_else(|| crate::analysis::lateral_onset_s(&r.dir).ok().flatten())
                 .unwrap_or(series.start_time_s);
             let g = crate::analysis::growth::band_growth(
                 &series,
@@ -792,7 +792,7 @@ pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
         };
         let from_s = report_options
             .from_s
-            .or_else(|| crate::analysis::lateral_onset_s(&r.dir))
+            .or_else(|| crate::analysis::lateral_onset_s(&r.dir).ok().flatten())
             .unwrap_or(t.first().copied().unwrap_or(0.0));
         let to_s = report_options.to_s.unwrap_or(f64::INFINITY);
         let rms = |v: &[f64]| {

@@ -244,7 +244,10 @@ pub fn operating_point(run_dir: &Path) -> Result<Option<OperatingPoint>> {
         }
         instants.push(row);
     }
-    let onset_s = crate::analysis::lateral_onset_s(run_dir).unwrap_or(0.01);
+    let onset_s = crate::analysis::lateral_onset_s(run_dir)
+        .ok()
+        .flatten()
+        .unwrap_or(0.01);
     let first_saturation_ms = (0..t.len())
         .find(|&k| t[k] >= onset_s && ratio(k) >= SATURATION_RATIO)
         .map(|k| t[k] * 1e3);

@@ -59,6 +59,7 @@ impl TimeSeries {
                 ),
             ));
         }
+        crate::table::check_unique_headers(&source, headers.iter())?;
         let available = headers.iter().collect::<Vec<_>>().join(", ");
         let find = |name: &str| {
             headers.iter().position(|h| h == name).ok_or_else(|| {

@@ -268,6 +268,19 @@ pub fn welch(signal: &[f64], sample_rate_hz: f64, params: &WelchParams) -> Resul
         *value *= scale * one_sided / segment_count as f64;
     }
 
+    // Finite samples near the largest double (1e308) overflow in the detrend's mean or the
+    // squared spectrum: an `inf` or NaN PSD is refused rather than written as a result.
+    if psd_per_hz.iter().any(|p| !p.is_finite()) {
+        let largest = signal.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        return Err(Error::input(
+            "welch",
+            "signal",
+            format!(
+                "its power spectral density overflows a double (samples up to {largest:.3e} in \
+                 magnitude; the PSD must stay below 1.8e308): scale the signal first"
+            ),
+        ));
+    }
     let frequency_resolution_hz = sample_rate_hz / nfft as f64;
     let frequency_hz = Array1::from_shape_fn(bin_count, |k| k as f64 * frequency_resolution_hz);
     Ok(Psd {
@@ -282,6 +295,19 @@ pub fn welch(signal: &[f64], sample_rate_hz: f64, params: &WelchParams) -> Resul
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn samples_whose_psd_overflows_are_refused() {
+        let signal: Vec<f64> = (0..64)
+            .map(|k| if k % 2 == 0 { 1e308 } else { -1e308 })
+            .collect();
+        let err = welch(&signal, 100.0, &WelchParams::new(16)).unwrap_err();
+        assert_eq!(err.exit_code(), 2);
+        assert!(err.to_string().contains("overflows"), "{err}");
+        // The same shape at an ordinary scale is fine.
+        let small: Vec<f64> = signal.iter().map(|v| v * 1e-300).collect();
+        assert!(welch(&small, 100.0, &WelchParams::new(16)).is_ok());
+    }
 
     #[test]
     fn segment_longer_than_signal_is_an_input_error_naming_nperseg() {
