@@ -556,6 +556,10 @@ fn verdict(harmonics: &[HarmonicGrowth], criteria: &GrowthCriteria) -> SquealVer
                 h.final_level_m_per_s,
                 if h.limit_cycle {
                     "limit cycle reached".to_string()
+                } else if h.final_change.is_nan() {
+                    "no span before the last to tell a limit cycle: the record is shorter than \
+                     two final spans"
+                        .to_string()
                 } else {
                     format!(
                         "still changing: {:+.0} % over the last span",
@@ -686,7 +690,7 @@ pub fn table_markdown(g: &RingGrowth) -> String {
             continue;
         }
         s.push_str(&format!(
-            "| {} | {} | {:.2e} | {:.2e} | {:.1} | {} | {} | {:+.0} | {} | {} | {} | {} |\n",
+            "| {} | {} | {:.2e} | {:.2e} | {:.1} | {} | {} | {} | {} | {} | {} | {} |\n",
             h.direction.word(),
             h.n,
             h.build_up_level_m_per_s,
@@ -698,7 +702,11 @@ pub fn table_markdown(g: &RingGrowth) -> String {
             h.linear_phase_s
                 .map(|(a, b)| format!("{:.0}-{:.0}", a * 1e3, b * 1e3))
                 .unwrap_or_else(|| "-".into()),
-            100.0 * h.final_change,
+            if h.final_change.is_nan() {
+                "-".to_string()
+            } else {
+                format!("{:+.0}", 100.0 * h.final_change)
+            },
             if h.limit_cycle { "yes" } else { "no" },
             h.final_peak_hz
                 .map(|f| format!("{f:.1}"))
@@ -899,6 +907,28 @@ mod tests {
             "{}",
             g.verdict.summary
         );
+    }
+
+    /// An 80 ms record holds the final span (30-80 ms) but no span before it: no limit cycle
+    /// can be told, and the verdict and the table say so rather than print NaN.
+    #[test]
+    fn a_record_without_a_span_before_the_last_says_so() {
+        let g = growth_of_records(
+            &[record(
+                0.08,
+                3,
+                exponential_then_saturated(100.0, 1000.0, 0.070),
+            )],
+            &creep_force(0.08),
+            &[axial(0, 3, 1000.0)],
+            &GrowthCriteria::default(),
+        )
+        .unwrap();
+        let h = g.harmonics.iter().find(|h| h.n == 3).unwrap();
+        assert!(h.final_change.is_nan() && !h.limit_cycle);
+        let text = to_markdown(&g);
+        assert!(!text.contains("NaN"), "{text}");
+        assert!(text.contains("no span before the last"), "{text}");
     }
 
     #[test]
