@@ -326,15 +326,21 @@ pub fn lateral_onset_s(run_dir: &Path) -> Result<Option<f64>> {
         None | Some(serde_json::Value::Null) => return Ok(None),
         Some(m) => m,
     };
-    let motion: crate::model::lateral::LateralMotion = serde_json::from_value(motion.clone())
-        .map_err(|e| {
-            Error::input(
+    match serde_json::from_value::<crate::model::lateral::LateralMotion>(motion.clone()) {
+        Ok(motion) => Ok(Some(motion.onset_s())),
+        // Runs written before the motion had shapes (data/runs/case*-paper*) record
+        // `{start_s, velocity_m_per_s}`: the motion starts at `start_s`.
+        Err(e) => match motion.get("start_s").and_then(serde_json::Value::as_f64) {
+            Some(start_s) if start_s.is_finite() && motion.get("shape").is_none() => {
+                Ok(Some(start_s))
+            }
+            _ => Err(Error::input(
                 path.display().to_string(),
                 "settings.lateral_motion",
                 format!("does not read as a lateral motion: {e}"),
-            )
-        })?;
-    Ok(Some(motion.onset_s()))
+            )),
+        },
+    }
 }
 
 /// Sample indices of the window `[from_s, to_s]` of a series; errors name the option.

@@ -715,6 +715,21 @@ pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
                 .from_s
                 .or_else(|| crate::analysis::lateral_onset_s(&r.dir).ok().flatten())
                 .unwrap_or(series.start_time_s);
+            // A record that ends within one growth window of its start has no growth rate to
+            // give: the section says so instead of failing the whole report.
+            let end_s =
+                series.start_time_s + (series.values.len() as f64 - 1.0) / series.sample_rate_hz;
+            if end_s - from_s < growth_options.window_s {
+                let _ = writeln!(
+                    tables,
+                    "({m},{n}): the record from {:.2} ms to its end ({:.2} ms) is shorter than \
+                     the {:.0} ms growth window: no growth rate.\n",
+                    from_s * 1e3,
+                    end_s * 1e3,
+                    growth_options.window_s * 1e3
+                );
+                continue;
+            }
             let g = crate::analysis::growth::band_growth(
                 &series,
                 &bands,
@@ -748,6 +763,9 @@ pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
             }
         }
         if series_out.is_empty() {
+            if !tables.is_empty() {
+                let _ = writeln!(squeal_md, "### {}\n\n{tables}", r.name);
+            }
             continue;
         }
         let stem = format!("squeal_ridges_{}", r.name);
