@@ -17,7 +17,7 @@
 //!   [`REQUIRED_WINDOW`] of the mode's frequency that stands at least [`PER_N_MARGIN_DB`] above
 //!   the median of that harmonic's PSD over the band. The maximum's frequency and level are
 //!   those of the parabola through the log PSD of its bin and the two beside it, as the peak
-//!   finder refines them ([`crate::signal::peaks::parabolic_vertex`]): the window of a low mode
+//!   finder refines them ([`crate::signal::peaks::log_parabola_maximum`]): the window of a low mode
 //!   (+-11.5 Hz at 231 Hz) is narrower than a short record's bins (24.4 Hz for 40 ms), and a
 //!   peak at +2.5 % whose top bin lies just outside it would otherwise go unseen.
 //!
@@ -486,17 +486,12 @@ pub fn check_required(
         .collect()
 }
 
-/// The frequency (Hz) and PSD of the local maximum at bin `k` (`0 < k < len - 1`), refined by
-/// the parabola through the log PSD of bins `k - 1, k, k + 1` as the peak finder does; the bin's
-/// own values when a neighbour is zero.
+/// The frequency (Hz) and PSD of the local maximum at bin `k`, refined as the peak finder
+/// refines its peaks.
 fn refined_maximum(frequencies_hz: &[f64], psd: &[f64], k: usize) -> (f64, f64) {
-    if !(psd[k - 1] > 0.0 && psd[k] > 0.0 && psd[k + 1] > 0.0) {
-        return (frequencies_hz[k], psd[k]);
-    }
-    let (offset_bins, log_value) =
-        crate::signal::peaks::parabolic_vertex(psd[k - 1].ln(), psd[k].ln(), psd[k + 1].ln());
+    let (offset_bins, value) = crate::signal::peaks::log_parabola_maximum(psd, k);
     let bin_hz = frequencies_hz[k + 1] - frequencies_hz[k];
-    (frequencies_hz[k] + offset_bins * bin_hz, log_value.exp())
+    (frequencies_hz[k] + offset_bins * bin_hz, value)
 }
 
 /// The frequency x n map as CSV: `frequency_hz`, then the PSD of each harmonic

@@ -135,6 +135,18 @@ pub fn parabolic_vertex(a: f64, b: f64, c: f64) -> (f64, f64) {
     (offset, b - 0.25 * (a - c) * offset)
 }
 
+/// The maximum at bin `k` (`0 < k < len - 1`) refined by the parabola through the log PSD of
+/// bins `k - 1, k, k + 1`: (offset in bins, PSD at the vertex); the bin itself when a
+/// neighbour is not positive. The peak finder and the per-n check read peaks this way.
+pub fn log_parabola_maximum(psd: &[f64], k: usize) -> (f64, f64) {
+    if psd[k - 1] > 0.0 && psd[k] > 0.0 && psd[k + 1] > 0.0 {
+        let (offset, log_value) = parabolic_vertex(psd[k - 1].ln(), psd[k].ln(), psd[k + 1].ln());
+        (offset, log_value.exp())
+    } else {
+        (0.0, psd[k])
+    }
+}
+
 /// How the dominant peaks are ranked (and which peak wins a separation conflict).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -286,14 +298,7 @@ pub fn find_spectral_peaks<'a>(
         .filter(|((_, keep), _)| **keep)
         .map(|(((k, p), _), priority)| {
             let k = *k;
-            let (offset_bins, refined_psd) = if psd[k - 1] > 0.0 && psd[k] > 0.0 && psd[k + 1] > 0.0
-            {
-                let (offset, log_value) =
-                    parabolic_vertex(psd[k - 1].ln(), psd[k].ln(), psd[k + 1].ln());
-                (offset, log_value.exp())
-            } else {
-                (0.0, psd[k])
-            };
+            let (offset_bins, refined_psd) = log_parabola_maximum(&psd, k);
             let peak = SpectralPeak {
                 index: k,
                 frequency_hz: frequency_hz[k],
