@@ -82,6 +82,120 @@ fn read_json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
+/// A resume of the run in `out` with a case or model that differs from the one the run
+/// started with (issue 53, item 6) is refused with exit 2, naming every field that changed,
+/// and leaves the folder byte for byte as it was: the speed and mu changed in the case, the
+/// wheel's Young's modulus in the model (a change the checkpoint's mesh-and-mass fingerprint
+/// cannot see), and, with `run.json` removed so that no field can be named, the checkpoint's
+/// own stamp refuses the changed case. A changed end time and description are accepted (the
+/// caller's resume goes on with them).
+fn refuse_resumes_with_other_values(dir: &Path, case: &Path, out: &Path, end_ms: f64) {
+    let original: serde_json::Value = read_json(case);
+    let model_path = PathBuf::from(original["model_scenario"].as_str().unwrap());
+    let changed_case = |edit: &dyn Fn(&mut serde_json::Value), name: &str| -> PathBuf {
+        let mut value = original.clone();
+        edit(&mut value);
+        let path = dir.join(name);
+        std::fs::write(&path, serde_json::to_string_pretty(&value).unwrap()).unwrap();
+        path
+    };
+    // The model with a stiffer wheel: its own copy of the wheel file.
+    let mut wheel = read_json(Path::new("data/wheels/ns_intercity_920.json"));
+    wheel["material"]["youngs_modulus_pa"] = serde_json::json!(2.1e11 * 1.01);
+    let wheel_path = dir.join("stiffer-wheel.json");
+    std::fs::write(&wheel_path, serde_json::to_string_pretty(&wheel).unwrap()).unwrap();
+    let mut model = read_json(&model_path);
+    model["wheel_file"] = serde_json::json!(wheel_path.display().to_string());
+    let stiffer_model = dir.join("stiffer-model.json");
+    std::fs::write(
+        &stiffer_model,
+        serde_json::to_string_pretty(&model).unwrap(),
+    )
+    .unwrap();
+
+    let speed_and_mu = changed_case(
+        &|c| {
+            c["speed_km_per_h"] = serde_json::json!(50.0);
+            c["friction"]["mu"] = serde_json::json!(0.3);
+            c["description"] = serde_json::json!("a description may change");
+        },
+        "speed-and-mu.json",
+    );
+    let stiffer = changed_case(
+        &|c| c["model_scenario"] = serde_json::json!(stiffer_model.display().to_string()),
+        "stiffer.json",
+    );
+    // (case, whether run.json is removed first, what the message must name)
+    let attempts: [(&Path, bool, &[&str]); 3] = [
+        (
+            &speed_and_mu,
+            false,
+            &["speed_km_per_h: 100.0 -> 50.0", "friction.mu: 0.45 -> 0.3"],
+        ),
+        (
+            &stiffer,
+            false,
+            &["model: wheel.material.youngs_modulus_pa"],
+        ),
+        (
+            &speed_and_mu,
+            true,
+            &["checkpoint", "another case or model"],
+        ),
+    ];
+    for (k, (changed, without_record, named)) in attempts.into_iter().enumerate() {
+        let copy = dir.join(format!("changed-{k}"));
+        std::fs::create_dir_all(&copy).unwrap();
+        for entry in std::fs::read_dir(out).unwrap() {
+            let entry = entry.unwrap();
+            if entry.file_type().unwrap().is_file() {
+                std::fs::copy(entry.path(), copy.join(entry.file_name())).unwrap();
+            }
+        }
+        if without_record {
+            std::fs::remove_file(copy.join("run.json")).unwrap();
+        }
+        let before = folder_bytes(&copy);
+        let refused = squeal()
+            .args(["simulate", "--quiet", "--resume", "--case"])
+            .arg(changed)
+            .arg("--out")
+            .arg(&copy)
+            .args(["--end-time-ms", &format!("{end_ms}")])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&refused.stderr);
+        assert_eq!(refused.status.code(), Some(2), "attempt {k}: {err}");
+        for name in named {
+            assert!(
+                err.contains(name),
+                "attempt {k} does not name {name:?}: {err}"
+            );
+        }
+        assert!(
+            !err.contains("description: "),
+            "attempt {k}: the description may change: {err}"
+        );
+        assert_eq!(
+            folder_bytes(&copy),
+            before,
+            "attempt {k}: the refused resume changed the folder"
+        );
+    }
+}
+
+/// Every file of a folder (not its subfolders) with its bytes.
+fn folder_bytes(dir: &Path) -> Vec<(std::ffi::OsString, Vec<u8>)> {
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap())
+        .filter(|e| e.file_type().unwrap().is_file())
+        .map(|e| (e.file_name(), std::fs::read(e.path()).unwrap()))
+        .collect();
+    files.sort();
+    files
+}
+
 /// A run killed outright (SIGKILL: no handler, nothing flushed) after a periodic checkpoint
 /// leaves `status.json` and `run.json` of that checkpoint, with status `running` (a second run
 /// into its folder while it goes is refused); the resume
@@ -285,6 +399,8 @@ fn sigterm_stops_with_a_checkpoint_and_resume_goes_on() {
             "{file}: the refused resume rewrote status.json"
         );
     }
+
+    refuse_resumes_with_other_values(&dir, &case, &out, end_ms);
 
     // Resume for 0.2 ms more: completes, and the histories go on without a gap or a repeat.
     resume_until(&case, &out, end_ms);

@@ -20,6 +20,7 @@ pub mod aux;
 mod aux_nodes;
 pub mod batch;
 pub mod bench;
+pub mod checkpoint;
 mod colour;
 pub mod element;
 pub mod energy;

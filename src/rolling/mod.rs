@@ -25,6 +25,7 @@
 pub mod bench;
 pub mod build;
 mod drive;
+pub mod identity;
 pub mod instruments;
 pub mod output;
 mod preload;
@@ -115,6 +116,11 @@ pub struct RunRecord {
     pub scenario: String,
     /// The case as read.
     pub settings: RollingCase,
+    /// The model scenario with its wheel, as run (less labels: [`identity`]); a resume
+    /// compares it with its own.
+    pub model_settings: serde_json::Value,
+    /// The numerics version of the binary ([`identity::NUMERICS_VERSION`]).
+    pub numerics_version: u64,
     /// Model facts.
     pub model: ModelInfo,
     /// Preload result (None when resumed).
@@ -238,14 +244,19 @@ fn start_run(
     RunOptions,
     Option<serde_json::Value>,
 )> {
-    // The modes that label the run's peaks, before its minutes or hours of stepping.
-    wheel_modes::write_run_wheel_modes(&loaded.scenario.wheel, &opts.out_dir, opts.resume)?;
-    // Read before anything of the resume is written.
+    let source = loaded.source.display().to_string();
+    // Read and checked before anything of the resume is written: a resume goes on with the
+    // values its run started with, or not at all.
+    let identity = identity::RunIdentity::of(&case, &loaded_case.scenario)?;
     let earlier = opts
         .resume
         .then(|| earlier_record(&opts.out_dir.join("run.json")))
         .flatten();
-    let source = loaded.source.display().to_string();
+    if let Some(earlier) = &earlier {
+        identity::check_resume(earlier, &identity, &source)?;
+    }
+    // The modes that label the run's peaks, before its minutes or hours of stepping.
+    wheel_modes::write_run_wheel_modes(&loaded.scenario.wheel, &opts.out_dir, opts.resume)?;
     let mut m = build_for_run(loaded_case, &case, opts, &source)?;
     let (preload, static_preload) = if !opts.resume {
         let reports = run_preload(&mut m, &case, opts, &source)?;
@@ -257,7 +268,8 @@ fn start_run(
         }
         (None, None)
     };
-    let run_opts = run_options(&m, &case, opts);
+    let mut run_opts = run_options(&m, &case, opts);
+    run_opts.stamp = Some(identity.stamp());
     // After the preload and the prescribed motions, so that their nodes stay fine.
     let choice = stepping::choose_stepping(&m, &case.time_stepping, opts.multi_rate, &source)?;
     stepping::apply_stepping(&mut m, &choice)?;
@@ -269,6 +281,7 @@ fn start_run(
         case_file: loaded.source.display().to_string(),
         scenario: loaded.scenario.scenario.name.clone(),
         settings: case,
+        model_settings: identity.model,
         model: m.info.clone(),
         preload,
         static_preload,
@@ -424,6 +437,7 @@ fn run_options(m: &RollingModel, case: &RollingCase, opts: &SimulateOptions) -> 
         progress: opts.progress,
         balance_threshold: 0.05,
         stop: opts.stop.clone(),
+        stamp: None,
     }
 }
 
@@ -463,6 +477,7 @@ struct RecordParts {
     case_file: String,
     scenario: String,
     settings: RollingCase,
+    model_settings: serde_json::Value,
     model: ModelInfo,
     preload: Option<PreloadReport>,
     static_preload: Option<StaticReport>,
@@ -481,6 +496,8 @@ impl RecordParts {
             case_file: self.case_file.clone(),
             scenario: self.scenario.clone(),
             settings: self.settings.clone(),
+            model_settings: self.model_settings.clone(),
+            numerics_version: identity::NUMERICS_VERSION,
             model: self.model.clone(),
             preload: self.preload,
             static_preload: self.static_preload.clone(),
