@@ -946,3 +946,27 @@ fn contact_results_do_not_depend_on_the_thread_count() {
     assert!(outputs[0].0 == outputs[1].0, "contact_forces.csv differs");
     assert!(outputs[0].1 == outputs[1].1, "histories.csv differs");
 }
+
+/// Every committed case file loads: its fields are known and in range and its model scenario
+/// and wheel load (a case that only a long run reads would otherwise fail hours into a queue,
+/// or never be noticed). Each file's `name` is its file name, which the run folders and
+/// `.ci/curve-runs` go by.
+#[test]
+fn every_committed_case_file_loads_under_its_own_name() {
+    let mut files: Vec<_> = std::fs::read_dir("data/cases")
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    assert!(files.len() > 20, "{} case files", files.len());
+    for path in files {
+        let loaded = load_case(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(
+            loaded.case.name,
+            path.file_stem().unwrap().to_str().unwrap(),
+            "{}",
+            path.display()
+        );
+    }
+}
