@@ -223,3 +223,48 @@ fn no_output_is_written_over_an_input() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Item 9: two runs whose folders share a name (`a/run`, `b/run`: here paper cases 4 and 3)
+/// each get their own sections and chart files, named after as much of their paths as tells
+/// them apart; every image the page shows exists, and the two runs' charts differ.
+#[test]
+fn a_report_on_two_runs_of_one_folder_name_keeps_both() {
+    let dir = fresh("report_same_name");
+    for (parent, run) in [
+        ("a", "data/runs/case4-paper"),
+        ("b", "data/runs/case3-paper"),
+    ] {
+        let to = dir.join(parent).join("run");
+        std::fs::create_dir_all(&to).unwrap();
+        for entry in std::fs::read_dir(repo(run)).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_file() {
+                std::fs::copy(&path, to.join(path.file_name().unwrap())).unwrap();
+            }
+        }
+    }
+    let out = squeal(&dir, &["report", "a/run", "b/run", "--out", "r"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let md = std::fs::read_to_string(dir.join("r/index.md")).unwrap();
+    assert!(md.contains("`a-run`") && md.contains("`b-run`"), "{md}");
+    let images: Vec<&str> = md
+        .split("](")
+        .skip(1)
+        .filter_map(|s| s.split(')').next())
+        .filter(|s| s.ends_with(".png") || s.ends_with(".svg"))
+        .collect();
+    for image in &images {
+        assert!(dir.join("r").join(image).exists(), "{image} is missing");
+    }
+    let force_charts: Vec<&&str> = images
+        .iter()
+        .filter(|i| i.starts_with("contact_forces_"))
+        .collect();
+    assert_eq!(force_charts.len(), 2, "{images:?}");
+    assert_ne!(force_charts[0], force_charts[1]);
+    assert_ne!(
+        std::fs::read(dir.join("r").join(force_charts[0])).unwrap(),
+        std::fs::read(dir.join("r").join(force_charts[1])).unwrap()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

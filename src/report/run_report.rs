@@ -44,10 +44,57 @@ pub struct ReportSummary {
     pub sections: Vec<String>,
 }
 
-fn run_name(dir: &Path) -> String {
-    dir.file_name()
-        .map(|s| s.to_string_lossy().to_string())
-        .unwrap_or_else(|| "run".into())
+/// One name per run, unique within the report, that its sections and chart files go by: the
+/// folder's name; where two runs share it (`a/run`, `b/run`), with as many of its parent
+/// folders as tell them apart (`a-run`, `b-run`); the same folder given twice gets a count
+/// (`run`, `run-2`). Without this the second run's charts would replace the first's.
+fn unique_run_names(dirs: &[PathBuf]) -> Vec<String> {
+    // The folders' components from the last, of the absolute path where it resolves (so that
+    // `.` and `..` name the folder they mean).
+    let parts: Vec<Vec<String>> = dirs
+        .iter()
+        .map(|d| {
+            let resolved = d.canonicalize().unwrap_or_else(|_| d.clone());
+            let mut names: Vec<String> = resolved
+                .components()
+                .filter_map(|c| match c {
+                    std::path::Component::Normal(s) => Some(s.to_string_lossy().to_string()),
+                    _ => None,
+                })
+                .collect();
+            names.reverse();
+            if names.is_empty() {
+                names.push("run".into());
+            }
+            names
+        })
+        .collect();
+    let suffix = |p: &[String], depth: usize| -> String {
+        let mut kept: Vec<&str> = p.iter().take(depth).map(String::as_str).collect();
+        kept.reverse();
+        kept.join("-")
+    };
+    let mut names: Vec<String> = Vec::with_capacity(dirs.len());
+    for (i, p) in parts.iter().enumerate() {
+        let depth = (1..=p.len())
+            .find(|&d| {
+                let mine = suffix(p, d);
+                parts
+                    .iter()
+                    .enumerate()
+                    .all(|(j, q)| j == i || suffix(q, d) != mine)
+            })
+            .unwrap_or(1);
+        let base = suffix(p, depth);
+        let mut name = base.clone();
+        let mut count = 2;
+        while names.contains(&name) {
+            name = format!("{base}-{count}");
+            count += 1;
+        }
+        names.push(name);
+    }
+    names
 }
 
 /// Build the report for `run_dirs` into `out_dir`.
@@ -66,7 +113,7 @@ pub fn build_report(
     }
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     let mut runs = Vec::new();
-    for dir in run_dirs {
+    for (dir, name) in run_dirs.iter().zip(unique_run_names(run_dirs)) {
         let hist_path = dir.join("histories.csv");
         if !hist_path.exists() {
             return Err(Error::input(
@@ -115,7 +162,7 @@ pub fn build_report(
         };
         let (ring, ring_map) = read_ring_analyses(dir, report_options);
         runs.push(Run {
-            name: run_name(dir),
+            name,
             dir: dir.clone(),
             histories,
             analyses,
@@ -325,4 +372,24 @@ pub fn markdown_to_html(title: &str, md: &str) -> String {
     }
     html.push_str("</body></html>\n");
     html
+}
+
+#[cfg(test)]
+mod tests {
+    use super::unique_run_names;
+    use std::path::PathBuf;
+
+    #[test]
+    fn runs_that_share_a_folder_name_get_names_of_their_own() {
+        let names =
+            |dirs: &[&str]| unique_run_names(&dirs.iter().map(PathBuf::from).collect::<Vec<_>>());
+        // Paths that do not exist keep their components as given.
+        assert_eq!(names(&["/x/a/run", "/x/b/run"]), ["a-run", "b-run"]);
+        assert_eq!(
+            names(&["/x/a/run", "/y/a/run", "/z/c"]),
+            ["x-a-run", "y-a-run", "c"]
+        );
+        assert_eq!(names(&["/x/run", "/x/run"]), ["run", "run-2"]);
+        assert_eq!(names(&["/p/case3", "/p/case5"]), ["case3", "case5"]);
+    }
 }
