@@ -5,7 +5,10 @@
 //! - A command writes into a hidden temporary sibling of its output folder
 //!   (`.NAME.partial-PID`) and moves the result into place only when it has succeeded
 //!   ([`StagedDir`]): a failure leaves nothing behind, and an existing folder is changed only
-//!   by a complete result. Dropping an uncommitted stage removes it.
+//!   by a complete result. Dropping an uncommitted stage removes it, with the parent folders
+//!   it created. A process killed before it could (SIGKILL, or a signal to a command without
+//!   a handler) leaves its stage; the next command that stages the same output removes the
+//!   stages of processes that no longer run ([`sweep_stale_stages`]).
 //! - A run claims its run directory while it writes there ([`FolderLock`], `run.lock` with its
 //!   process id), so that a second run (a resume started by hand, or by a script, while the
 //!   first still goes) is refused instead of writing into the same files.
@@ -257,6 +260,71 @@ pub struct StagedDir {
     target: PathBuf,
     staging: PathBuf,
     committed: bool,
+    /// The topmost parent folder this stage created (None: they all existed); removed, if
+    /// empty, with the stage when the command fails.
+    created_parent: Option<PathBuf>,
+}
+
+/// The stage name of output `name` for process `pid`.
+fn stage_name(name: &str, pid: u32) -> String {
+    format!(".{name}.partial-{pid}")
+}
+
+/// Removes the stages of output `name` in `parent` left by processes that no longer run
+/// (killed while they wrote). A stage of a running squeal process stays, as does anything
+/// whose name is not exactly a stage name. Best effort: a stage that cannot be removed stays.
+/// Where there is no `/proc` to ask, no other process counts as running (as for stale locks).
+pub fn sweep_stale_stages(parent: &Path, name: &str) {
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return;
+    };
+    let prefix = format!(".{name}.partial-");
+    for entry in entries.flatten() {
+        let file_name = entry.file_name().to_string_lossy().to_string();
+        let Some(pid) = file_name
+            .strip_prefix(&prefix)
+            .and_then(|p| p.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if process_runs_squeal(pid) {
+            continue;
+        }
+        let path = entry.path();
+        let _ = if path.is_dir() {
+            std::fs::remove_dir_all(&path)
+        } else {
+            std::fs::remove_file(&path)
+        };
+    }
+}
+
+/// Creates `dir` and its missing parents; returns the topmost folder it created (None when
+/// `dir` existed).
+pub fn create_dir_recording(dir: &Path) -> Result<Option<PathBuf>> {
+    let mut top = None;
+    let mut at = Some(dir);
+    while let Some(p) = at {
+        if p.as_os_str().is_empty() || p.exists() {
+            break;
+        }
+        top = Some(p.to_path_buf());
+        at = p.parent();
+    }
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    Ok(top)
+}
+
+/// Removes the empty folders from `dir` up to `top` (both included), as created by
+/// [`create_dir_recording`]; stops at the first that is not empty.
+pub fn remove_created(dir: &Path, top: &Path) {
+    let mut at = Some(dir);
+    while let Some(p) = at {
+        if std::fs::remove_dir(p).is_err() || p == top {
+            break;
+        }
+        at = p.parent();
+    }
 }
 
 impl StagedDir {
@@ -271,8 +339,9 @@ impl StagedDir {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
-        let staging = parent.join(format!(".{name}.partial-{}", std::process::id()));
+        let created_parent = create_dir_recording(&parent)?;
+        sweep_stale_stages(&parent, &name);
+        let staging = parent.join(stage_name(&name, std::process::id()));
         if staging.exists() {
             std::fs::remove_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
         }
@@ -281,6 +350,7 @@ impl StagedDir {
             target: target.to_path_buf(),
             staging,
             committed: false,
+            created_parent,
         })
     }
 
@@ -337,6 +407,9 @@ impl Drop for StagedDir {
             // Best effort: the stage is a hidden temporary folder; a failure to remove it must
             // not hide the error that dropped it.
             let _ = std::fs::remove_dir_all(&self.staging);
+            if let (Some(top), Some(parent)) = (&self.created_parent, self.staging.parent()) {
+                remove_created(parent, top);
+            }
         }
     }
 }
@@ -354,8 +427,9 @@ pub fn write_file_staged<T>(path: &Path, write: impl FnOnce(&Path) -> Result<T>)
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
-    let staging = parent.join(format!(".{name}.partial-{}", std::process::id()));
+    let created_parent = create_dir_recording(&parent)?;
+    sweep_stale_stages(&parent, &name);
+    let staging = parent.join(stage_name(&name, std::process::id()));
     match write(&staging) {
         Ok(value) => {
             std::fs::rename(&staging, path).map_err(|e| Error::io(path, e))?;
@@ -363,6 +437,9 @@ pub fn write_file_staged<T>(path: &Path, write: impl FnOnce(&Path) -> Result<T>)
         }
         Err(e) => {
             let _ = std::fs::remove_file(&staging);
+            if let Some(top) = &created_parent {
+                remove_created(&parent, top);
+            }
             Err(e)
         }
     }
@@ -514,6 +591,57 @@ mod tests {
                 "{bad}: {e}"
             );
         }
+    }
+
+    /// Item 12 of issue 53: a failed command leaves no folder it created, and the stages that
+    /// killed processes left behind go with the next command that stages the same output,
+    /// while the stage of a process still running (here a shell whose command line names
+    /// squeal) and files that only look like stages stay.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn stale_stages_of_dead_processes_are_swept_and_failures_leave_no_new_folders() {
+        let root = temp("sweep");
+        // Parents created for a stage that fails go with it.
+        {
+            let _stage = StagedDir::new(&root.join("a/b/out")).unwrap();
+            assert!(root.join("a/b").is_dir());
+        }
+        assert!(!root.join("a").exists(), "the created parents stayed");
+        let failed: Result<()> = write_file_staged(&root.join("c/d/f.txt"), |_| {
+            Err(Error::Numerical("writer failed".into()))
+        });
+        assert!(failed.is_err() && !root.join("c").exists());
+        // A dead process: one that has run and been waited for.
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let dead = child.id();
+        child.wait().unwrap();
+        let mut live = std::process::Command::new("sh")
+            // `; true` keeps the shell from handing its process to `sleep`, whose command line
+            // would not name squeal.
+            .args(["-c", "sleep 30; true", "squeal-test-holder"])
+            .spawn()
+            .unwrap();
+        let dead_stage = root.join(stage_name("out", dead));
+        let live_stage = root.join(stage_name("out", live.id()));
+        let dead_file = root.join(stage_name("f.txt", dead));
+        let lookalike = root.join(".out.partial-notapid");
+        for d in [&dead_stage, &live_stage, &lookalike] {
+            std::fs::create_dir_all(d).unwrap();
+            std::fs::write(d.join("x"), "x").unwrap();
+        }
+        std::fs::write(&dead_file, "half").unwrap();
+        let stage = StagedDir::new(&root.join("out")).unwrap();
+        assert!(!dead_stage.exists(), "a dead process's stage stayed");
+        assert!(live_stage.exists() && lookalike.exists());
+        stage.commit(Commit::Merge).unwrap();
+        write_file_staged(&root.join("f.txt"), |p| {
+            std::fs::write(p, "whole").map_err(|e| Error::io(p, e))
+        })
+        .unwrap();
+        assert!(!dead_file.exists(), "a dead process's staged file stayed");
+        live.kill().unwrap();
+        live.wait().unwrap();
+        let _ = std::fs::remove_dir_all(&root);
     }
 
     #[test]

@@ -109,6 +109,20 @@ fn a_failed_overwrite_keeps_the_old_run() {
         names.iter().all(|n| !n.starts_with('.')),
         "left behind: {names:?}"
     );
+    // Item 12: a new run that fails leaves no folder: neither its own nor the parents it made.
+    let nested = squeal(
+        &dir,
+        &[
+            "simulate",
+            "--quiet",
+            "--case",
+            lifted_case.to_str().unwrap(),
+            "--out",
+            "new/deeper/run",
+        ],
+    );
+    assert_ne!(nested.status.code(), Some(0), "the lifted wheel ran");
+    assert!(!dir.join("new").exists(), "{}", stderr(&nested));
     // A new run that works does replace it.
     let second = squeal(
         &dir,

@@ -156,7 +156,11 @@ pub const LIFT_OFF_LIMIT_S: f64 = 0.002;
 /// ([`crate::output::SetAside`]) until the new run has started writing, and restored if it
 /// fails before. Checked before anything is written, so a refused run leaves the folder as it
 /// was. The folder is marked as squeal's ([`crate::output::OUTPUT_MARKER`]).
-fn prepare_run_directory(opts: &SimulateOptions) -> Result<Option<crate::output::SetAside>> {
+/// Returns the set-aside old run and the topmost folder this created (None: the folder
+/// existed).
+fn prepare_run_directory(
+    opts: &SimulateOptions,
+) -> Result<(Option<crate::output::SetAside>, Option<PathBuf>)> {
     let dir = &opts.out_dir;
     let shown = dir.display().to_string();
     if opts.resume {
@@ -171,7 +175,7 @@ fn prepare_run_directory(opts: &SimulateOptions) -> Result<Option<crate::output:
                 ),
             ));
         }
-        return Ok(None);
+        return Ok((None, None));
     }
     let mut aside = None;
     if crate::output::has_entries(dir) {
@@ -185,9 +189,9 @@ fn prepare_run_directory(opts: &SimulateOptions) -> Result<Option<crate::output:
         }
         aside = Some(crate::output::SetAside::new(dir, "--overwrite")?);
     }
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let created = crate::output::create_dir_recording(dir)?;
     crate::output::mark_output(dir)?;
-    Ok(aside)
+    Ok((aside, created))
 }
 
 /// Runs one case into `opts.out_dir`.
@@ -204,7 +208,7 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
     // it as it found it (a replaced run is put back by its `SetAside` instead).
     let existed = opts.out_dir.exists();
     let fresh = !opts.resume && !crate::output::has_entries(&opts.out_dir);
-    let replaced = prepare_run_directory(opts)?;
+    let (replaced, created_parent) = prepare_run_directory(opts)?;
     let claim = crate::output::FolderLock::acquire(&opts.out_dir)?;
     let started = start_run(loaded, &loaded_case, case, opts);
     let (mut m, parts, run_opts, earlier) = match started {
@@ -215,6 +219,12 @@ pub fn simulate(loaded: &LoadedCase, opts: &SimulateOptions) -> Result<RunRecord
                 let _ = std::fs::remove_dir_all(&opts.out_dir);
                 if existed {
                     let _ = std::fs::create_dir_all(&opts.out_dir);
+                } else if let (Some(top), Some(parent)) = (&created_parent, opts.out_dir.parent()) {
+                    // The parent folders this run created go too (the run folder itself is
+                    // gone already).
+                    if top.as_path() != opts.out_dir.as_path() {
+                        crate::output::remove_created(parent, top);
+                    }
                 }
             }
             return Err(e);
