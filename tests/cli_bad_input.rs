@@ -103,6 +103,17 @@ fn fixtures() -> PathBuf {
         c["friction_slip_speed"] = "contact".into()
     });
     write_case("frkey.json", &|c| c["friction"]["mu_typo"] = 0.3.into());
+    // Item 11: a patch snapshot whose points carry no pressure (paper case 3's at 17 ms with
+    // every pressure set to 0).
+    let mut snapshot: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(data.join("runs/case3-paper/patches/patch_0017000.0us.json"))
+            .unwrap(),
+    )
+    .unwrap();
+    for point in snapshot["points"].as_array_mut().unwrap() {
+        point["pressure_pa"] = 0.0.into();
+    }
+    std::fs::write(dir.join("nopressure.json"), snapshot.to_string()).unwrap();
     dir
 }
 
@@ -154,6 +165,7 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         .to_string();
     let slip = fx.join("slip.json").display().to_string();
     let frkey = fx.join("frkey.json").display().to_string();
+    let nopressure = fx.join("nopressure.json").display().to_string();
     let aoa60 = fx.join("aoa60.json").display().to_string();
     let ring20 = fx.join("ring20.json").display().to_string();
     let ring7 = fx.join("ring7.json").display().to_string();
@@ -1075,6 +1087,11 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
                 "unknown field `mu_typo`",
                 "expected",
             ],
+        ),
+        (
+            vec!["kalker", "compare", "--snapshot", &nopressure, "--out", "o"],
+            2,
+            vec!["nopressure.json", "pressure_pa", "must be positive"],
         ),
         (
             vec!["simulate", "--case", &slip, "--out", "o"],

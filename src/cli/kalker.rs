@@ -387,6 +387,7 @@ fn run_compare(args: CompareArgs) -> Result<()> {
         ));
     }
     squeal::kalker::validate_friction(snapshot.mu, &source)?;
+    squeal::kalker::snapshot::require_points(&snapshot, &source)?;
     let curvatures = match args.wheel_y_m {
         Some(y) => {
             let pc = squeal::kalker::profiles::s1002_on_54e1(y, args.wheel_radius_m)?;

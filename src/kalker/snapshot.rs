@@ -105,7 +105,7 @@ pub fn compare_snapshot(
     elements_per_axis: usize,
     spin_per_m: f64,
 ) -> Result<SnapshotComparison> {
-    require_points(snapshot)?;
+    require_points(snapshot, "snapshot")?;
     let hertz = HertzContact::from_curvatures(
         hertz_curvatures_per_m.0,
         hertz_curvatures_per_m.1,
@@ -143,7 +143,7 @@ pub fn compare_snapshot_on_profiles(
     elements_per_axis: usize,
     spin_per_m: f64,
 ) -> Result<SnapshotComparison> {
-    require_points(snapshot)?;
+    require_points(snapshot, "snapshot")?;
     if !(16..=400).contains(&elements_per_axis) {
         return Err(Error::input(
             "command line",
@@ -242,13 +242,25 @@ pub fn compare_snapshot_on_profiles(
     ))
 }
 
-/// An FE snapshot without contact points has nothing to compare.
-fn require_points(snapshot: &PatchSnapshot) -> Result<()> {
+/// An FE snapshot without a contact point that carries pressure has nothing to compare (a
+/// comparison of zero points would otherwise come out as a result).
+pub fn require_points(snapshot: &PatchSnapshot, source: &str) -> Result<()> {
     if snapshot.points.is_empty() {
         return Err(Error::input(
-            "snapshot",
+            source,
             "points",
             "the FE patch has no contact points",
+        ));
+    }
+    if !snapshot.points.iter().any(|p| p.pressure_pa > 0.0) {
+        return Err(Error::input(
+            source,
+            "points[].pressure_pa",
+            format!(
+                "none of the FE patch's {} points carries pressure (every pressure_pa is at or \
+                 below 0): at least one must be positive for a contact to compare",
+                snapshot.points.len()
+            ),
         ));
     }
     Ok(())
