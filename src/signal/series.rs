@@ -60,7 +60,7 @@ impl TimeSeries {
             ));
         }
         crate::table::check_unique_headers(&source, headers.iter())?;
-        let available = headers.iter().collect::<Vec<_>>().join(", ");
+        let available = column_list(headers.iter());
         let find = |name: &str| {
             headers.iter().position(|h| h == name).ok_or_else(|| {
                 Error::input(
@@ -143,9 +143,50 @@ pub fn uniform_sample_rate_hz(times_s: &[f64]) -> std::result::Result<f64, Strin
     Ok(1.0 / mean_step_s)
 }
 
+/// Most columns, and most characters of each, that a message lists: a file that is no table
+/// (a binary file, one line of megabytes) must not turn the message into megabytes.
+const LISTED_COLUMNS: usize = 30;
+const LISTED_CHARACTERS: usize = 60;
+
+/// The header's columns for a message: the first [`LISTED_COLUMNS`], each cut to
+/// [`LISTED_CHARACTERS`] characters with control characters shown escaped, and how many more.
+fn column_list<'a>(headers: impl Iterator<Item = &'a str>) -> String {
+    let headers: Vec<&str> = headers.collect();
+    let mut listed: Vec<String> = headers
+        .iter()
+        .take(LISTED_COLUMNS)
+        .map(|h| {
+            let shown: String = h.chars().flat_map(char::escape_debug).collect();
+            if shown.chars().count() > LISTED_CHARACTERS {
+                let cut: String = shown.chars().take(LISTED_CHARACTERS).collect();
+                format!("{cut}... ({} characters)", h.chars().count())
+            } else {
+                shown
+            }
+        })
+        .collect();
+    if headers.len() > LISTED_COLUMNS {
+        listed.push(format!("and {} more", headers.len() - LISTED_COLUMNS));
+    }
+    listed.join(", ")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A header that is no table's (a megabyte of NUL bytes, thousands of columns) is listed
+    /// in a message short enough to read.
+    #[test]
+    fn a_message_lists_a_bounded_part_of_a_huge_header() {
+        let nul = "\0".repeat(1 << 20);
+        let listed = column_list([nul.as_str(), "time_s"].into_iter());
+        assert!(listed.len() < 200, "{} characters", listed.len());
+        assert!(listed.contains("(1048576 characters)") && listed.ends_with("time_s"));
+        let many: Vec<String> = (0..1000).map(|k| format!("c{k}")).collect();
+        let listed = column_list(many.iter().map(String::as_str));
+        assert!(listed.starts_with("c0, c1,") && listed.ends_with("c29, and 970 more"));
+    }
 
     fn write_temp(name: &str, text: &str) -> std::path::PathBuf {
         let path =
