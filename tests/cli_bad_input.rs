@@ -114,6 +114,8 @@ fn fixtures() -> PathBuf {
         point["pressure_pa"] = 0.0.into();
     }
     std::fs::write(dir.join("nopressure.json"), snapshot.to_string()).unwrap();
+    snapshot["mu"] = 5.0.into();
+    std::fs::write(dir.join("mu5.json"), snapshot.to_string()).unwrap();
     dir
 }
 
@@ -166,6 +168,7 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let slip = fx.join("slip.json").display().to_string();
     let frkey = fx.join("frkey.json").display().to_string();
     let nopressure = fx.join("nopressure.json").display().to_string();
+    let mu5 = fx.join("mu5.json").display().to_string();
     let aoa60 = fx.join("aoa60.json").display().to_string();
     let ring20 = fx.join("ring20.json").display().to_string();
     let ring7 = fx.join("ring7.json").display().to_string();
@@ -548,6 +551,12 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             2,
             vec!["--require"],
         ),
+        // Item 13: a negative count is our message, not clap's "use '-- -1'".
+        (
+            vec!["check-modes", &run, "--require", "-1,3"],
+            2,
+            vec!["--require", "`-1,3` is not a mode label", "non-negative"],
+        ),
         (
             vec![
                 "check-modes",
@@ -700,7 +709,26 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         (
             vec!["kalker", "hertz", "--normal-force-n", "-1"],
             2,
-            vec!["--normal-force-n", "> 0 N"],
+            vec!["--normal-force-n", "(0, 1e8] N"],
+        ),
+        // Item 13: a force far beyond any wheel's was "all pressure vanished".
+        (
+            vec![
+                "kalker",
+                "creep",
+                "--normal-force-n",
+                "1e300",
+                "--mu",
+                "0.3",
+            ],
+            2,
+            vec!["--normal-force-n", "(0, 1e8] N"],
+        ),
+        // Item 13: a snapshot's own friction coefficient is named as its field, not as `--mu`.
+        (
+            vec!["kalker", "compare", "--snapshot", &mu5, "--out", "o"],
+            2,
+            vec!["mu5.json", "field `mu`"],
         ),
         (
             vec![

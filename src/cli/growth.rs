@@ -22,7 +22,7 @@ pub struct GrowthArgs {
     #[arg(long, alias = "signal", default_value_t = GrowthOptions::default().column)]
     pub column: String,
     /// Axial mode whose band to follow, "nodal circles,nodal diameters" (repeatable).
-    #[arg(long = "mode", default_values_t = default_mode_labels())]
+    #[arg(long = "mode", default_values_t = default_mode_labels(), allow_hyphen_values = true)]
     pub modes: Vec<String>,
     /// Half width of each band, relative to the mode's frequency.
     #[arg(long, default_value_t = GrowthOptions::default().half_width)]

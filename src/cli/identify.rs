@@ -296,7 +296,7 @@ pub struct CheckModesArgs {
     #[command(flatten)]
     pub common: CommonArgs,
     /// Required mode as "nodal circles,nodal diameters" (repeatable), e.g. --require 0,3.
-    #[arg(long, required = true)]
+    #[arg(long, required = true, allow_hyphen_values = true)]
     pub require: Vec<String>,
     /// With --per-n: how far (dB) a required mode's peak must stand above the median of its
     /// harmonic's PSD (default fixed before any run was judged, docs/curving.md#per-n-analysis).

@@ -379,14 +379,12 @@ fn run_compare(args: CompareArgs) -> Result<()> {
     use squeal::kalker::snapshot::{compare_snapshot, compare_snapshot_on_profiles, PatchSnapshot};
     let snapshot: PatchSnapshot = squeal::input::read_json(&args.snapshot)?;
     let source = args.snapshot.display().to_string();
-    if !(snapshot.normal_force_n.is_finite() && snapshot.normal_force_n > 0.0) {
-        return Err(Error::input(
-            &source,
-            "normal_force_n",
-            format!("must be > 0 N, got {}", snapshot.normal_force_n),
-        ));
-    }
-    squeal::kalker::validate_friction(snapshot.mu, &source)?;
+    squeal::kalker::validate_normal_force_field(
+        snapshot.normal_force_n,
+        &source,
+        "normal_force_n",
+    )?;
+    squeal::kalker::validate_friction_field(snapshot.mu, &source, "mu")?;
     squeal::kalker::snapshot::require_points(&snapshot, &source)?;
     let curvatures = match args.wheel_y_m {
         Some(y) => {

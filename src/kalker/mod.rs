@@ -41,19 +41,36 @@ use crate::{Error, Result};
 /// ([`Material::validated`], [`Material::combined_modulus_pa`]).
 pub use crate::material::Material;
 
-/// Checks a friction coefficient for Kalker's theory: in (0, 2].
+/// Checks a friction coefficient for Kalker's theory: in (0, 2]. Its field is `--mu` (a
+/// command-line value); [`validate_friction_field`] names another.
 pub fn validate_friction(mu: f64, source: &str) -> Result<()> {
-    // The tangential problem needs friction: zero is refused here, unlike in the FE contact.
-    crate::friction::check_coefficient(mu, source, "--mu", false)
+    validate_friction_field(mu, source, "--mu")
 }
 
-/// Checks a normal force: finite and > 0 N.
+/// Checks a friction coefficient read from `field` of `source` (e.g. a snapshot's `mu`).
+pub fn validate_friction_field(mu: f64, source: &str, field: &str) -> Result<()> {
+    // The tangential problem needs friction: zero is refused here, unlike in the FE contact.
+    crate::friction::check_coefficient(mu, source, field, false)
+}
+
+/// Largest normal force Kalker's solvers take (N): 1e8 N, a thousand times a heavy-haul wheel
+/// load (about 1.6e5 N). Far above it the half-space's influence sums overflow or lose their
+/// digits (a force of 1e300 N used to end as "all pressure vanished").
+pub const MAX_NORMAL_FORCE_N: f64 = 1e8;
+
+/// Checks a normal force: in (0, [`MAX_NORMAL_FORCE_N`]] N.
 pub fn validate_normal_force(normal_force_n: f64, source: &str) -> Result<()> {
-    if !(normal_force_n.is_finite() && normal_force_n > 0.0) {
+    validate_normal_force_field(normal_force_n, source, "--normal-force-n")
+}
+
+/// Checks a normal force read from `field` of `source`.
+pub fn validate_normal_force_field(normal_force_n: f64, source: &str, field: &str) -> Result<()> {
+    if !(normal_force_n.is_finite() && normal_force_n > 0.0 && normal_force_n <= MAX_NORMAL_FORCE_N)
+    {
         return Err(Error::input(
             source,
-            "--normal-force-n",
-            format!("normal force must be > 0 N, got {normal_force_n}"),
+            field,
+            format!("normal force must lie in (0, {MAX_NORMAL_FORCE_N:e}] N, got {normal_force_n}"),
         ));
     }
     Ok(())
