@@ -517,6 +517,25 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             2,
             vec!["resolution"],
         ),
+        // Item 13: a spacing finer than the longest FFT was blamed on the internal `nfft`.
+        (
+            vec!["identify", &run, "--resolution-hz", "1e-9", "--out", "o"],
+            2,
+            vec!["--resolution-hz", "longest FFT"],
+        ),
+        // Item 13: the Welch parameters are named as the options that set them.
+        (
+            vec![
+                "psd",
+                &run,
+                "--column",
+                "lateral_rim_velocity_m_per_s",
+                "--nperseg",
+                "1",
+            ],
+            2,
+            vec!["field `--nperseg`", "2..="],
+        ),
         (
             vec!["identify", &run, "--column", "nothing", "--out", "o"],
             2,

@@ -89,7 +89,11 @@ impl InputArgs {
                     self.csv_path().display(),
                     self.column
                 ),
-                field,
+                // The Welch parameters a user sets are options of this command: name them so.
+                match field.as_str() {
+                    "nperseg" | "overlap" | "window" | "detrend" => format!("--{field}"),
+                    _ => field,
+                },
                 message,
             ),
             other => other,

@@ -24,18 +24,28 @@ pub fn welch_for_resolution(
     resolution_hz: f64,
     nperseg: Option<usize>,
 ) -> Result<WelchParams> {
-    if !(resolution_hz.is_finite() && resolution_hz > 0.0 && resolution_hz <= sample_rate_hz) {
+    // The finest spacing the longest FFT gives: below it the padding would not fit.
+    let finest_hz = sample_rate_hz / super::welch::MAX_NFFT as f64;
+    if !(resolution_hz.is_finite() && resolution_hz >= finest_hz && resolution_hz <= sample_rate_hz)
+    {
         return Err(Error::input(
             "command line",
             "--resolution-hz",
-            format!("must lie in (0, {sample_rate_hz}] Hz, the sample rate (got {resolution_hz})"),
+            format!(
+                "must lie in [{finest_hz:.3e}, {sample_rate_hz}] Hz: from the sample rate over \
+                 the longest FFT ({} points) to the sample rate (got {resolution_hz})",
+                super::welch::MAX_NFFT
+            ),
         ));
     }
     if n < 8 {
         return Err(Error::input(
             "command line",
             "--from-ms/--to-ms",
-            format!("the analysed window holds {n} samples; at least 8 are needed"),
+            format!(
+                "the analysed window (--from-ms to --to-ms, by default the run's lateral onset \
+                 to its end) holds {n} samples; at least 8 are needed"
+            ),
         ));
     }
     let mut nfft = 8usize;

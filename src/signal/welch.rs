@@ -56,6 +56,9 @@ pub const DEFAULT_NPERSEG: usize = 4096;
 /// `noverlap = nperseg / 2`, as [`WelchParams::new`]).
 pub const DEFAULT_OVERLAP_FRACTION: f64 = 0.5;
 
+/// Longest FFT a PSD takes (2^26 points: 1 GiB of complex values in flight).
+pub const MAX_NFFT: usize = 1 << 26;
+
 /// Parameters of a Welch estimate.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WelchParams {
@@ -132,7 +135,7 @@ impl WelchParams {
             ));
         }
         if let Some(nfft) = self.nfft {
-            if nfft < self.nperseg || nfft > (1 << 26) {
+            if nfft < self.nperseg || nfft > MAX_NFFT {
                 return Err(Error::input(
                     "welch",
                     "nfft",
