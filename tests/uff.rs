@@ -371,3 +371,116 @@ fn malformed_files_name_the_dataset_record_and_allowed_values() {
         error_of(&bad)
     );
 }
+
+/// `values` as one record line in Fortran fields of `widths` (repeated) that fill their
+/// columns: a negative value leaves no blank before its sign (`1.234567E+00-2.500000E-01`).
+fn glued_line(values: &[f64], widths: &[usize]) -> String {
+    values
+        .iter()
+        .zip(widths.iter().cycle())
+        .map(|(&v, &w)| uff::fields::format_real(v, w, w - 7, 'E'))
+        .collect()
+}
+
+/// Whether a line holds two values with no blank between them: an exponent's two digits
+/// followed by a minus sign.
+fn glued(line: &str) -> bool {
+    let b = line.as_bytes();
+    (4..b.len()).any(|i| {
+        b[i] == b'-' && b[i - 1].is_ascii_digit() && b[i - 2].is_ascii_digit() && b[i - 4] == b'E'
+    })
+}
+
+/// Issue 53, items 14 and 15: data records written in fixed columns with no blank before a
+/// minus sign (pyuff's `sample_test` dataset 55 files) are read by their field widths, in
+/// datasets 55 and 58 (double precision, uneven, complex: `E13.5,2E20.12`); a dataset 164 with
+/// a blank temperature-mode field (Simcenter Testlab) reads it as Fortran does, 0.
+#[test]
+fn fixed_width_records_without_blanks_and_blank_integer_fields_read_as_fortran_does() {
+    // Dataset 55: the fixture's mode shapes replaced by glued negative values.
+    let text = std::fs::read_to_string(fixture("modes55.uff")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let shape = |node: usize| [-0.125 * node as f64, -2.5e-3, 1.0 / node as f64];
+    let mut replaced = 0;
+    for k in 1..lines.len() {
+        let node: Option<usize> = lines[k - 1].trim().parse().ok();
+        let is_values = lines[k].contains("e+") || lines[k].contains("e-");
+        if let (Some(node @ 1..=4), true) = (node, is_values) {
+            if lines[k - 1].len() == 10 {
+                lines[k] = glued_line(&shape(node), &[13]);
+                replaced += 1;
+            }
+        }
+    }
+    assert_eq!(replaced, 12, "three modes of four nodes");
+    assert!(lines.iter().any(|l| glued(l)), "a glued pair");
+    let file = uff::parse_uff(lines.join("\n").as_bytes(), "glued55.uff").unwrap();
+    for mode in &file.nodal_data {
+        for node in &mode.nodes {
+            let want = shape(node.node as usize);
+            for (got, want) in node.values.iter().zip(want) {
+                // E13.5 with 6 decimals written: the value to 7 significant digits.
+                assert!(
+                    (got.re - want).abs() <= 1e-6 * want.abs(),
+                    "{got} vs {want}"
+                );
+            }
+        }
+    }
+
+    // Dataset 58, double precision, uneven, complex: record 12 rewritten glued.
+    let f = function(OrdinatePrecision::Double, true, false, 7);
+    let bytes = uff::write::to_bytes(
+        &UffFile {
+            functions: vec![f],
+            ..Default::default()
+        },
+        false,
+    )
+    .unwrap();
+    let text = String::from_utf8(bytes).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let start = lines.iter().position(|l| l.trim() == "58").unwrap() + 12;
+    let end = start
+        + lines[start..]
+            .iter()
+            .position(|l| l.trim() == "-1")
+            .unwrap();
+    let mut expected = Vec::new();
+    for line in &mut lines[start..end] {
+        let values: Vec<f64> = line
+            .split_whitespace()
+            .map(|t| t.replace('D', "E").parse().unwrap())
+            .collect();
+        *line = glued_line(&values, &[13, 20, 20]);
+        let mut at = 0;
+        for w in [13, 20, 20].iter().cycle().take(values.len()) {
+            expected.push(line[at..at + w].trim().parse::<f64>().unwrap());
+            at += w;
+        }
+    }
+    assert!(lines[start..end]
+        .iter()
+        .any(|l| l.contains("E+00-") || l.contains("E-01-")));
+    let file = uff::parse_uff(lines.join("\n").as_bytes(), "glued58.uff").unwrap();
+    let g = &file.functions[0];
+    let (Abscissa::Uneven(x), FunctionValues::Complex(y)) = (&g.abscissa, &g.values) else {
+        panic!("an uneven complex function");
+    };
+    let read: Vec<f64> = x
+        .iter()
+        .zip(y)
+        .flat_map(|(x, y)| [*x, y.re, y.im])
+        .collect();
+    // Exactly the numbers written, field by field.
+    assert_eq!(read, expected);
+
+    // Dataset 164 with its temperature mode left blank.
+    let units = std::fs::read_to_string(fixture("units164.uff"))
+        .unwrap()
+        .replace("Meter (newton)         2", "Meter (newton)          ");
+    let file = uff::parse_uff(units.as_bytes(), "testlab164.uff").unwrap();
+    let units = file.units.unwrap();
+    assert_eq!((units.code, units.temperature_mode), (1, 0));
+    assert_eq!(units.description, "Meter (newton)");
+}

@@ -185,7 +185,7 @@ pub fn parse(lines: &[String], ctx: &Context) -> Result<NodalData> {
             ),
         ));
     }
-    let (real_values, used) = reals(&lines[next..], real_count, ctx, 8, "reals")?;
+    let (real_values, used) = reals(&lines[next..], real_count, &[13], ctx, 8, "reals")?;
     next += used;
 
     // Records 9 and 10 per node.
@@ -204,7 +204,14 @@ pub fn parse(lines: &[String], ctx: &Context) -> Result<NodalData> {
             )
         })?;
         next += 1;
-        let (values, used) = reals(&lines[next..], per_node, ctx, 10, &format!("node {node}"))?;
+        let (values, used) = reals(
+            &lines[next..],
+            per_node,
+            &[13],
+            ctx,
+            10,
+            &format!("node {node}"),
+        )?;
         next += used;
         if let Some(index) = values.iter().position(|v| !v.is_finite()) {
             return Err(ctx.record_error(

@@ -72,6 +72,18 @@ pub enum Abscissa {
     Uneven(Vec<f64>),
 }
 
+/// The Fortran field widths of record 12 (docs/uff-format.md, "Record 12"): `6E13.5` for single
+/// precision; `4E20.12` for double even; `2(E13.5,E20.12)` and `E13.5,2E20.12` for double
+/// uneven real and complex (the abscissa stays single).
+fn record12_widths(precision: OrdinatePrecision, complex: bool, even: bool) -> &'static [usize] {
+    match (precision, even, complex) {
+        (OrdinatePrecision::Single, _, _) => &[13],
+        (OrdinatePrecision::Double, true, _) => &[20],
+        (OrdinatePrecision::Double, false, false) => &[13, 20],
+        (OrdinatePrecision::Double, false, true) => &[13, 20, 20],
+    }
+}
+
 /// Ordinate precision in the file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OrdinatePrecision {
@@ -357,7 +369,14 @@ pub fn parse(block: &Block, ctx: &Context) -> Result<Function> {
             let total = count.checked_mul(per_point).ok_or_else(|| {
                 ctx.record_error(7, "number of values", format!("{count} is too large"))
             })?;
-            let (values, used) = reals(&lines[11..], total, ctx, 12, "data values")?;
+            let (values, used) = reals(
+                &lines[11..],
+                total,
+                record12_widths(precision, complex, even),
+                ctx,
+                12,
+                "data values",
+            )?;
             if 11 + used != lines.len() {
                 return Err(ctx.record_error(
                     12,

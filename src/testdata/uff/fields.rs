@@ -4,8 +4,10 @@
 //! Header records are read by columns (names may contain blanks and integer fields may touch);
 //! when a record does not fill its columns (hand-edited files) the whitespace-separated tokens
 //! are used instead, if there are exactly as many as fields. Data records are read as
-//! whitespace-separated numbers: every `E13.5`, `E20.12` and `D25.16` value leaves at least
-//! one blank before it.
+//! whitespace-separated numbers (hand-edited files and writers with other widths), and a line
+//! whose tokens are not all numbers is read again by its record's Fortran field widths: a
+//! negative `E13.5` value with a 3-digit mantissa exponent, or a writer that fills the field,
+//! leaves no blank before its sign (`1.00000E+00-2.00000E+00`, pyuff's `sample_test` files).
 
 use super::block::Context;
 use crate::Result;
@@ -60,11 +62,34 @@ pub fn integers(line: &str, widths: &[usize]) -> Option<Vec<i64>> {
     })
 }
 
-/// Reads `count` whitespace-separated reals from `lines` (record `record` of the dataset,
-/// spread over as many lines as it takes). Returns the values and the lines consumed.
+/// The fields of `line` by the Fortran widths `widths`, repeated from column 1 to the end of
+/// the line (`6E13.5`: `[13]`; `2(E13.5,E20.12)`: `[13, 20]`). Blank fields (a partly filled
+/// last line) are left out. None when a field is not a number, or the line does not split at
+/// a character boundary.
+pub fn reals_by_widths(line: &str, widths: &[usize]) -> Option<Vec<f64>> {
+    let end = line.trim_end().len();
+    let mut values = Vec::new();
+    let mut start = 0;
+    for &width in widths.iter().cycle() {
+        if start >= end || width == 0 {
+            break;
+        }
+        let field = line.get(start..(start + width).min(end))?;
+        if !field.trim().is_empty() {
+            values.push(parse_real(field)?);
+        }
+        start += width;
+    }
+    Some(values)
+}
+
+/// Reads `count` reals from `lines` (record `record` of the dataset, spread over as many lines
+/// as it takes), each line by whitespace or, where that fails, by the record's Fortran field
+/// `widths` (module docs). Returns the values and the lines consumed.
 pub fn reals(
     lines: &[String],
     count: usize,
+    widths: &[usize],
     ctx: &Context,
     record: usize,
     what: &str,
@@ -81,7 +106,25 @@ pub fn reals(
             ));
         };
         used += 1;
-        for token in line.split_whitespace() {
+        let by_tokens: Option<Vec<f64>> = line.split_whitespace().map(parse_real).collect();
+        let Some(line_values) = by_tokens.or_else(|| reals_by_widths(line, widths)) else {
+            // Name the first token that is no number (by whitespace, as a reader sees it).
+            let (k, token) = line
+                .split_whitespace()
+                .enumerate()
+                .find(|(_, t)| parse_real(t).is_none())
+                .unwrap_or((0, line.as_str()));
+            return Err(ctx.record_error(
+                record,
+                what,
+                format!(
+                    "`{token}` (value {}) is not a number, by whitespace or by the record's \
+                     field widths {widths:?}",
+                    values.len() + k + 1
+                ),
+            ));
+        };
+        for value in line_values {
             if values.len() == count {
                 return Err(ctx.record_error(
                     record,
@@ -89,13 +132,6 @@ pub fn reals(
                     format!("more values on a line than the {count} announced"),
                 ));
             }
-            let value = parse_real(token).ok_or_else(|| {
-                ctx.record_error(
-                    record,
-                    what,
-                    format!("`{token}` (value {}) is not a number", values.len() + 1),
-                )
-            })?;
             values.push(value);
         }
     }

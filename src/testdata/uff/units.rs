@@ -58,10 +58,20 @@ pub fn parse(lines: &[String], ctx: &Context) -> Result<Units> {
                 format!("`{r1}` does not start with an integer"),
             )
         })?;
-    let temperature_mode = column(r1, 31, 40)
+    // Fortran reads a blank integer field as 0: Simcenter Testlab leaves the temperature mode
+    // blank. A line that stops before column 31 but ends with an integer is hand-edited, its
+    // fields separated by blanks.
+    let mode_field = column(r1, 31, 40);
+    let temperature_mode = mode_field
         .parse::<i64>()
         .ok()
-        .or_else(|| tokens.last()?.parse().ok())
+        .or_else(|| {
+            if r1.trim_end().len() < 31 {
+                tokens.last()?.parse().ok().or(Some(0))
+            } else {
+                mode_field.is_empty().then_some(0)
+            }
+        })
         .ok_or_else(|| {
             ctx.record_error(
                 1,
@@ -69,7 +79,7 @@ pub fn parse(lines: &[String], ctx: &Context) -> Result<Units> {
                 format!("`{r1}` does not end with an integer"),
             )
         })?;
-    let (factors, used) = reals(&lines[1..], 4, ctx, 2, "factors")?;
+    let (factors, used) = reals(&lines[1..], 4, &[25], ctx, 2, "factors")?;
     if 1 + used != lines.len() {
         return Err(ctx.record_error(2, "factors", "lines after the four factors"));
     }
