@@ -55,7 +55,7 @@ pub struct ModesArgs {
     #[arg(long, conflicts_with = "mesh")]
     pub wheel: Option<PathBuf>,
     /// Volume mesh instead of a wheel file: .msh (Gmsh 4.1 ASCII), .vtk (legacy ASCII) or .vtu
-    /// (VTK XML), with 8-node hexahedra and/or 10-node tetrahedra (and, in VTK files, 27-node
+    /// (VTK XML), with 8-node hexahedra and 4- or 10-node tetrahedra (and, in VTK files, 27-node
     /// hexahedra, cell type 29), coordinates in metres.
     #[arg(long)]
     pub mesh: Option<PathBuf>,

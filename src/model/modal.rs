@@ -193,11 +193,12 @@ pub fn mesh_model(
             .count()
     };
     let summary = format!(
-        "{} nodes, {} elements ({} hex8, {} tet10, {} hex27), volume {:.6e} m³",
+        "{} nodes, {} elements ({} hex8, {} tet10, {} tet4, {} hex27), volume {:.6e} m³",
         mesh.nodes.len(),
         mesh.elements.len(),
         count(12),
         count(24),
+        count(10),
         count(29),
         crate::fem::measure::volume(&mesh),
     );

@@ -15,7 +15,8 @@
 //!   its `*_range_*` intervals;
 //! - everything else (the run's status, the time reached, the last energy, the settings) is the
 //!   resume's;
-//! - `segments` lists every invocation in order (from and to time, steps, wall time, status) and
+//! - `segments` lists every invocation in order (from and to time, its own steps and the run's
+//!   count at its end, wall time, status) and
 //!   `total_wall_s` sums their wall times.
 //!
 //! A run writes its record with each periodic checkpoint too, with status `running`. A record
@@ -39,29 +40,41 @@ const LARGEST_FIELDS: [&str; 3] = [
     "deepest_penetration_m",
 ];
 
-/// One invocation of a run, as `segments` lists it.
-fn segment_of(record: &Value) -> Value {
+/// One invocation of a run, as `segments` lists it: the steps it took itself (`steps`) and the
+/// run's step count at its end (`steps_at_end`), given the count at its start.
+fn segment_of(record: &Value, steps_before: u64) -> Value {
     let run = &record["run"];
+    let at_end = run["steps"].as_u64();
     json!({
         "from_s": run["resumed_from_s"].as_f64().unwrap_or(0.0),
         "to_s": run["time_s"],
-        "steps": run["steps"],
+        "steps": at_end.map(|n| n.saturating_sub(steps_before)),
+        "steps_at_end": at_end,
         "wall_s": run["wall_s"],
         "status": run["status"],
     })
 }
 
 /// The segments an earlier record holds: its own list, or itself as the first one; a segment
-/// still `running` was killed after its last checkpoint (module docs).
+/// still `running` was killed after its last checkpoint (module docs). Segments written before
+/// `steps_at_end` existed counted the run's steps at their end in `steps`: they are given
+/// their own count.
 fn segments_of(record: &Value) -> Vec<Value> {
     let mut list = match record["segments"].as_array() {
         Some(list) => list.clone(),
-        None => vec![segment_of(record)],
+        None => vec![segment_of(record, 0)],
     };
+    let mut before = 0;
     for segment in &mut list {
         if segment["status"] == "running" {
             segment["status"] = json!("killed");
         }
+        if segment.get("steps_at_end").is_none() {
+            let at_end = segment["steps"].as_u64();
+            segment["steps_at_end"] = json!(at_end);
+            segment["steps"] = json!(at_end.map(|n| n.saturating_sub(before)));
+        }
+        before = segment["steps_at_end"].as_u64().unwrap_or(before);
     }
     list
 }
@@ -69,7 +82,7 @@ fn segments_of(record: &Value) -> Vec<Value> {
 /// `record` with its `segments` (itself alone) and `total_wall_s`: the record of a run that
 /// did not resume.
 pub fn with_segments(mut record: Value) -> Value {
-    let segments = vec![segment_of(&record)];
+    let segments = vec![segment_of(&record, 0)];
     finish(&mut record, segments);
     record
 }
@@ -104,7 +117,11 @@ pub fn merge_resumed(earlier: &Value, mut resumed: Value) -> Value {
     resumed["contact_point"] =
         merge_contact_point(&earlier["contact_point"], &resumed["contact_point"]);
     let mut segments = segments_of(earlier);
-    segments.push(segment_of(&resumed));
+    let before = segments
+        .last()
+        .and_then(|s| s["steps_at_end"].as_u64())
+        .unwrap_or(0);
+    segments.push(segment_of(&resumed, before));
     finish(&mut resumed, segments);
     resumed
 }
@@ -263,6 +280,7 @@ mod tests {
         third_part["run"]["resumed_from_s"] = json!(0.016);
         third_part["run"]["time_s"] = json!(0.02);
         third_part["run"]["wall_s"] = json!(5.0);
+        third_part["run"]["steps"] = json!(200);
         let third = merge_resumed(&second, third_part);
         let segments = third["segments"].as_array().unwrap();
         let spans: Vec<(f64, f64)> = segments
@@ -272,6 +290,17 @@ mod tests {
         assert_eq!(spans, vec![(0.0, 0.01), (0.01, 0.016), (0.016, 0.02)]);
         assert_eq!(third["total_wall_s"], 75.0);
         assert_eq!(segments[0]["status"], "interrupted");
+        // Each segment's own steps, and the run's count at its end (issue 53, item 16).
+        let steps: Vec<(u64, u64)> = segments
+            .iter()
+            .map(|s| {
+                (
+                    s["steps"].as_u64().unwrap(),
+                    s["steps_at_end"].as_u64().unwrap(),
+                )
+            })
+            .collect();
+        assert_eq!(steps, vec![(100, 100), (60, 160), (40, 200)]);
         // The start of rolling survives two resumes.
         assert_eq!(third["static_preload"]["iterations"], 5);
     }
@@ -307,5 +336,19 @@ mod tests {
         assert_eq!(merged["deepest_penetration_m"], 6.7e-5);
         assert_eq!(merged["segments"].as_array().unwrap().len(), 2);
         assert_eq!(merged["segments"][0]["from_s"], 0.0);
+        // Segments listed before `steps_at_end` existed held the count at their end.
+        let listed = json!({"run": {"status": "completed", "steps": 160, "time_s": 0.016},
+            "segments": [{"from_s": 0.0, "to_s": 0.01, "steps": 100, "status": "interrupted"},
+                         {"from_s": 0.01, "to_s": 0.016, "steps": 160, "status": "completed"}]});
+        let mut next = resumed_segment();
+        next["run"]["steps"] = json!(200);
+        let merged = merge_resumed(&listed, next);
+        let own: Vec<u64> = merged["segments"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s["steps"].as_u64().unwrap())
+            .collect();
+        assert_eq!(own, vec![100, 60, 40]);
     }
 }
