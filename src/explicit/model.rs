@@ -203,9 +203,14 @@ impl Model {
             })?;
             let x = mesh.element_coords(e);
             let inverted = || {
-                Error::Mesh(format!(
-                    "element {e} is inverted or degenerate (nodes {conn:?})"
-                ))
+                Error::input(
+                    source_name,
+                    format!("element {e}"),
+                    format!(
+                        "is inverted or degenerate (nodes {conn:?}): its volume must be positive \
+                         at every node; check the mesh settings that built it"
+                    ),
+                )
             };
             let m = lumped_masses(&x, mat.density_kg_per_m3).ok_or_else(inverted)?;
             for a in 0..8 {
