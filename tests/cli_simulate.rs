@@ -61,16 +61,32 @@ fn assert_samples_without_gap_or_repeat(out: &Path, end_ms: f64) {
     }
 }
 
-/// `squeal simulate --resume` of `case` in `out` until `end_ms`; it must succeed.
-fn resume_until(case: &Path, out: &Path, end_ms: f64) {
-    let resumed = squeal()
+/// `squeal simulate --resume` of `case` in `out` until `end_ms`, as it came out.
+fn resume(case: &Path, out: &Path, end_ms: f64) -> std::process::Output {
+    squeal()
         .args(["simulate", "--quiet", "--resume", "--case"])
         .arg(case)
         .arg("--out")
         .arg(out)
         .args(["--end-time-ms", &format!("{end_ms}")])
         .output()
-        .expect("resume");
+        .expect("resume")
+}
+
+/// A copy of the files (not the subfolders) of run folder `from` in a new folder `to`.
+fn copy_run_files(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        if entry.file_type().unwrap().is_file() {
+            std::fs::copy(entry.path(), to.join(entry.file_name())).unwrap();
+        }
+    }
+}
+
+/// `squeal simulate --resume` of `case` in `out` until `end_ms`; it must succeed.
+fn resume_until(case: &Path, out: &Path, end_ms: f64) {
+    let resumed = resume(case, out, end_ms);
     assert!(
         resumed.status.success(),
         "{}",
@@ -145,25 +161,12 @@ fn refuse_resumes_with_other_values(dir: &Path, case: &Path, out: &Path, end_ms:
     ];
     for (k, (changed, without_record, named)) in attempts.into_iter().enumerate() {
         let copy = dir.join(format!("changed-{k}"));
-        std::fs::create_dir_all(&copy).unwrap();
-        for entry in std::fs::read_dir(out).unwrap() {
-            let entry = entry.unwrap();
-            if entry.file_type().unwrap().is_file() {
-                std::fs::copy(entry.path(), copy.join(entry.file_name())).unwrap();
-            }
-        }
+        copy_run_files(out, &copy);
         if without_record {
             std::fs::remove_file(copy.join("run.json")).unwrap();
         }
         let before = folder_bytes(&copy);
-        let refused = squeal()
-            .args(["simulate", "--quiet", "--resume", "--case"])
-            .arg(changed)
-            .arg("--out")
-            .arg(&copy)
-            .args(["--end-time-ms", &format!("{end_ms}")])
-            .output()
-            .unwrap();
+        let refused = resume(changed, &copy, end_ms);
         let err = String::from_utf8_lossy(&refused.stderr);
         assert_eq!(refused.status.code(), Some(2), "attempt {k}: {err}");
         for name in named {
@@ -370,23 +373,10 @@ fn sigterm_stops_with_a_checkpoint_and_resume_goes_on() {
     ];
     for (file, spoil) in damage {
         let copy = dir.join(format!("damaged-{file}"));
-        std::fs::create_dir_all(&copy).unwrap();
-        for entry in std::fs::read_dir(&out).unwrap() {
-            let entry = entry.unwrap();
-            if entry.file_type().unwrap().is_file() {
-                std::fs::copy(entry.path(), copy.join(entry.file_name())).unwrap();
-            }
-        }
+        copy_run_files(&out, &copy);
         spoil(&copy.join(file));
         let status_before = std::fs::read(copy.join("status.json")).unwrap();
-        let refused = squeal()
-            .args(["simulate", "--quiet", "--resume", "--case"])
-            .arg(&case)
-            .arg("--out")
-            .arg(&copy)
-            .args(["--end-time-ms", &format!("{end_ms}")])
-            .output()
-            .unwrap();
+        let refused = resume(&case, &copy, end_ms);
         let err = String::from_utf8_lossy(&refused.stderr);
         assert_eq!(refused.status.code(), Some(2), "{file}: {err}");
         assert!(
