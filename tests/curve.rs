@@ -359,8 +359,9 @@ fn the_growth_of_the_committed_curve_runs_by_the_fixed_criteria() {
 /// 2026-11-29 (docs/convergence.md): all three squeal, but the winning mode follows the
 /// penalty: (0,8) axial at 5941.7 Hz in a limit cycle, x27, +21 /s at penalty x 0.5; (0,8) at
 /// 5941.5 Hz, x28, +39 /s at x 1; (0,9) axial at 6984.3 Hz in a limit cycle, x22, +26 /s at
-/// x 2; (0,8) at 5940.1 Hz in a limit cycle, x10.1, +7 /s at x 4. A change that moves these
-/// makes this test say so; they are not targets.
+/// x 2; (0,8) at 5940.1 Hz in a limit cycle, x10.1, +7 /s at x 4; (0,6) at 3848.8 Hz, still
+/// growing, x11.7, +7 /s at x 8. A change that moves these makes this test say so; they are
+/// not targets.
 #[test]
 fn the_patch_speed_runs_squeal_in_a_mode_that_follows_the_penalty() {
     use squeal::analysis::ring_growth::{ring_growth, GrowthCriteria};
@@ -405,6 +406,10 @@ fn the_patch_speed_runs_squeal_in_a_mode_that_follows_the_penalty() {
     // x to 0.05 here: 10.1 lies just above the squeal threshold of x10.
     assert!((f - 5940.1).abs() < 0.1 && (x - 10.1).abs() < 0.05 && (rate - 7.0).abs() < 1.0);
     assert!(cycle);
+    let (mode, f, x, rate, cycle) = judge("data/runs/curve/curve-falling-10mrad-patch-penalty-x8");
+    assert_eq!(mode, "(0,6)");
+    assert!((f - 3848.8).abs() < 0.1 && (x - 11.7).abs() < 0.05 && (rate - 7.0).abs() < 1.0);
+    assert!(!cycle, "+20 % on the span before: still growing");
 }
 
 #[test]
