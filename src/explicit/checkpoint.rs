@@ -44,7 +44,7 @@ const CHECKSUM_MARK: &[u8; 8] = b"SQLCSUM1";
 const MULTI_RATE_TAIL: &[u8; 8] = b"SQLMRAC1";
 
 /// FNV-1a (64 bit) of a byte string.
-fn fnv1a(bytes: &[u8]) -> u64 {
+pub fn fnv1a(bytes: &[u8]) -> u64 {
     let mut h: u64 = 0xcbf29ce484222325;
     for &b in bytes {
         h ^= b as u64;

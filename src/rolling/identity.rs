@@ -82,12 +82,7 @@ impl RunIdentity {
     /// the fingerprint, depends on the values only.
     pub fn fingerprint(&self) -> u64 {
         let text = format!("{NUMERICS_VERSION}\n{}\n{}", self.case, self.model);
-        let mut h: u64 = 0xcbf29ce484222325;
-        for b in text.bytes() {
-            h ^= b as u64;
-            h = h.wrapping_mul(0x100000001b3);
-        }
-        h
+        crate::explicit::checkpoint::fnv1a(text.as_bytes())
     }
 
     /// What the checkpoint stores.
