@@ -621,6 +621,16 @@ mod tests {
             .args(["-c", "sleep 30; true", "squeal-test-holder"])
             .spawn()
             .unwrap();
+        // The shell's command line is its own once it has started: wait for that (measured: on
+        // a loaded machine the sweep below could otherwise read it before it was set).
+        let cmdline = format!("/proc/{}/cmdline", live.id());
+        for _ in 0..500 {
+            if std::fs::read(&cmdline).is_ok_and(|c| String::from_utf8_lossy(&c).contains("squeal"))
+            {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
         let dead_stage = root.join(stage_name("out", dead));
         let live_stage = root.join(stage_name("out", live.id()));
         let dead_file = root.join(stage_name("f.txt", dead));

@@ -103,6 +103,13 @@ fn fixtures() -> PathBuf {
         c["friction_slip_speed"] = "contact".into()
     });
     write_case("frkey.json", &|c| c["friction"]["mu_typo"] = 0.3.into());
+    write_case("enforce.json", &|c| {
+        c["contact_enforcement"] = "lagrange".into()
+    });
+    write_case("exact_mr.json", &|c| {
+        c["contact_enforcement"] = "exact".into();
+        c["time_stepping"] = serde_json::json!({"multi_rate": "on"});
+    });
     // Item 11: a patch snapshot whose points carry no pressure (paper case 3's at 17 ms with
     // every pressure set to 0).
     let mut snapshot: serde_json::Value = serde_json::from_str(
@@ -166,6 +173,8 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         .display()
         .to_string();
     let slip = fx.join("slip.json").display().to_string();
+    let enforce = fx.join("enforce.json").display().to_string();
+    let exact_mr = fx.join("exact_mr.json").display().to_string();
     let frkey = fx.join("frkey.json").display().to_string();
     let nopressure = fx.join("nopressure.json").display().to_string();
     let mu5 = fx.join("mu5.json").display().to_string();
@@ -1144,6 +1153,16 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["simulate", "--case", &slip, "--out", "o"],
             2,
             vec!["slip.json", "friction_slip_speed", "node", "patch"],
+        ),
+        (
+            vec!["simulate", "--case", &enforce, "--out", "o"],
+            2,
+            vec!["enforce.json", "contact_enforcement", "penalty", "exact"],
+        ),
+        (
+            vec!["simulate", "--case", &exact_mr, "--out", "o"],
+            2,
+            vec!["exact_mr.json", "time_stepping.multi_rate", "exact contact"],
         ),
         (
             vec!["simulate", "--case", &aoa60, "--out", "o"],

@@ -7,7 +7,7 @@ use std::cell::Cell;
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use squeal::contact::{ContactPair, FrictionLaw};
+use squeal::contact::{ContactPair, Enforcement, FrictionLaw};
 use squeal::explicit::element::{ElasticMaterial, Formulation};
 use squeal::explicit::model::Model;
 use squeal::explicit::{AuxForces, Curve, MotionKind, NoAux, Solver};
@@ -91,10 +91,14 @@ fn the_time_step_does_not_allocate() {
         1,
     );
     let bulk_pa = 210e9 / (3.0 * (1.0 - 2.0 * 0.3));
-    // One pair per thread count (a pair carries its friction state).
-    let mut pairs: Vec<ContactPair> = (0..2)
-        .map(|_| {
-            ContactPair::new(
+    // One pair per thread count and enforcement (a pair carries its friction state): penalty,
+    // then exact (contact/exact.rs: its search, constraints and solve run on buffers of the
+    // pair's size).
+    let mut pairs: Vec<ContactPair> = [Enforcement::Penalty, Enforcement::Penalty]
+        .into_iter()
+        .chain([Enforcement::Exact, Enforcement::Exact])
+        .map(|enforcement| {
+            let mut pair = ContactPair::new(
                 "block_on_plate",
                 &mesh,
                 slaves.clone(),
@@ -103,7 +107,9 @@ fn the_time_step_does_not_allocate() {
                 bulk_pa,
                 FrictionLaw::Coulomb { mu: 0.3 },
             )
-            .unwrap()
+            .unwrap();
+            pair.enforcement = enforcement;
+            pair
         })
         .collect();
     let mut m = Model::from_mesh(mesh, &materials, Formulation::default(), "test").unwrap();
@@ -111,8 +117,9 @@ fn the_time_step_does_not_allocate() {
     m.fix_set("plate", [true, true, true]).unwrap();
     let bound = pairs[0].time_step_bound_s(&m.nodal_mass_kg);
     m.register_time_step_bound("contact", bound);
-    for (threads, contact) in [1, 2].into_iter().zip(pairs.iter_mut()) {
-        assert_steps_do_not_allocate(&m, threads, contact, "contact ", None);
+    for (threads, contact) in [1, 2, 1, 2].into_iter().zip(pairs.iter_mut()) {
+        let label = format!("contact ({}) ", contact.enforcement.word());
+        assert_steps_do_not_allocate(&m, threads, contact, &label, None);
         // The block did touch the plate (else the contact loop did no work).
         assert!(
             contact.state.iter().any(|st| st.active),

@@ -23,11 +23,16 @@
 //!
 //! The engine's time step must stay below `min sqrt(m / k)` over the slaves; [`ContactPair::time_step_bound_s`]
 //! gives it and the scenario registers it with the engine.
+//!
+//! Steps 3 and 4 are the penalty enforcement ([`Enforcement::Penalty`], the paper's). With
+//! [`Enforcement::Exact`] the same search feeds forward-increment Lagrange multipliers instead
+//! ([`exact`]): no penetration, no penalty stiffness, stick without elastic slip.
 
 // Index loops mirror the vector notation of the equations; `!(x > 0.0)` also rejects NaN.
 #![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
 mod clearance;
+pub mod exact;
 mod grid;
 pub mod patch;
 pub mod region;
@@ -35,7 +40,7 @@ pub mod region;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::explicit::aux::RankOneStiffness;
+use crate::explicit::aux::{RankOneStiffness, StepPredictor};
 use crate::explicit::AuxForces;
 use crate::mesh::tie::project_on_face;
 use crate::mesh::{Mesh, P3};
@@ -47,6 +52,11 @@ pub use region::ContactSearch;
 use region::{Region, SlaveForce, NO_FORCE};
 
 pub use crate::friction::{FrictionLaw, SlipSpeed};
+
+pub use crate::model::enforcement::Enforcement;
+
+/// A master face found under a slave: gap (m), face, bilinear weights, unit normal.
+pub(super) type FoundFace = (f64, u32, [f64; 4], P3);
 
 /// Per-slave contact state (what the patch output reads).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -94,6 +104,12 @@ pub struct ContactPair {
     pub friction: FrictionLaw,
     /// Which slip speed the law reads: each node's own (default) or the patch's.
     pub slip_speed: SlipSpeed,
+    /// Penalty (default) or exact enforcement. Exact applies to steps that give a prediction
+    /// ([`AuxForces::add_forces_predicted`]); the static solver's steps stay penalty.
+    pub enforcement: Enforcement,
+    exact: exact::ExactSolver,
+    /// The faces found under the region's slaves in an exact step (aligned with the region).
+    found: Vec<Option<FoundFace>>,
     /// The patch's sliding velocity of the last step with a slave in contact (m/s): the
     /// normal-force-weighted mean of the active slaves' slip velocities ([`SlipSpeed::Patch`];
     /// zero before any contact and after a frictionless phase).
@@ -190,6 +206,9 @@ struct SlaveContext<'a> {
     /// The patch's slip speed when every node reads it ([`SlipSpeed::Patch`]); None: each its own.
     patch_slip_speed_m_per_s: Option<f64>,
     search_margin_m: f64,
+    /// Accept slaves above a face (within the plane test's tolerance) as well as penetrating
+    /// ones: exact enforcement decides from the step's motion whether they touch.
+    accept_open_gap: bool,
     reference: &'a [P3],
     slaves: &'a [usize],
     u: &'a [P3],
@@ -198,15 +217,14 @@ struct SlaveContext<'a> {
 }
 
 impl SlaveContext<'_> {
-    /// Contact of slave `k`: closest penetrated master face, normal penalty force, friction
-    /// (trial force and return to the bound); updates its state and returns its total force,
-    /// the master point's weights and the face (`u32::MAX`: no contact).
-    fn update(&self, k: usize, st: &mut SlaveState) -> (P3, [f64; 4], u32) {
-        let (reference, u, v, dt_s) = (self.reference, self.u, self.v, self.dt_s);
+    /// The master face slave `k` meets: the deepest penetrated face over which it lies (with
+    /// `accept_open_gap`, the nearest face it lies over, penetrated or not), its gap, the
+    /// projection's weights and the face's unit normal.
+    fn find_face(&self, k: usize) -> Option<FoundFace> {
+        let (reference, u) = (self.reference, self.u);
         let pos = |n: usize| -> P3 { [0, 1, 2].map(|i| reference[n][i] + u[n][i]) };
-        let s = self.slaves[k];
-        let xs = pos(s);
-        let mut best: Option<(f64, u32, [f64; 4], P3)> = None;
+        let xs = pos(self.slaves[k]);
+        let mut best: Option<FoundFace> = None;
         for &fi in self.grid.candidates(xs) {
             let (blo, bhi) = (
                 self.grid.face_lo[fi as usize],
@@ -228,11 +246,23 @@ impl SlaveContext<'_> {
                 continue;
             };
             // Penetrations deeper than a face size are the far side of a thin part.
-            if gap < 0.0 && gap > -self.search_margin_m && best.is_none_or(|b| gap < b.0) {
+            if (gap < 0.0 || self.accept_open_gap)
+                && gap > -self.search_margin_m
+                && best.is_none_or(|b| gap < b.0)
+            {
                 best = Some((gap, fi, w, n));
             }
         }
-        let Some((gap, fi, w, n)) = best else {
+        best
+    }
+
+    /// Contact of slave `k`: closest penetrated master face, normal penalty force, friction
+    /// (trial force and return to the bound); updates its state and returns its total force,
+    /// the master point's weights and the face (`u32::MAX`: no contact).
+    fn update(&self, k: usize, st: &mut SlaveState) -> (P3, [f64; 4], u32) {
+        let (v, dt_s) = (self.v, self.dt_s);
+        let s = self.slaves[k];
+        let Some((gap, fi, w, n)) = self.find_face(k) else {
             // Most slaves are far from the rail: leave their (already clear) state untouched
             // rather than write it every step.
             if st.active {
@@ -414,6 +444,9 @@ impl ContactPair {
             slave_penalty_n_per_m: None,
             friction,
             slip_speed: SlipSpeed::Node,
+            enforcement: Enforcement::Penalty,
+            exact: exact::ExactSolver::new(n_slaves, mesh.nodes.len()),
+            found: Vec::with_capacity(n_slaves),
             patch_slip_velocity_m_per_s: [0.0; 3],
             state: vec![SlaveState::default(); n_slaves],
             penalty_scale,
@@ -532,6 +565,132 @@ impl ContactPair {
         Ok(())
     }
 
+    /// The search's bookkeeping before a step: the bucket grid rebuilt when master nodes have
+    /// moved, the region of interest chosen again when slaves have, and the region's guard.
+    fn prepare_search(&mut self, u: &[P3]) {
+        if self.needs_rebuild(u) {
+            // Rare (when nodes moved half a face): allocation here is outside the steady loop.
+            self.build_grid(u);
+        }
+        let (reference, slaves) = (&self.reference, &self.slaves);
+        let position = |k: usize| -> P3 {
+            let n = slaves[k];
+            [0, 1, 2].map(|i| reference[n][i] + u[n][i])
+        };
+        if self.region.needs_rebuild(&position) {
+            self.region.rebuild(
+                &self.grid,
+                self.search,
+                &position,
+                &mut self.state,
+                &mut self.forces,
+            );
+        }
+        self.steps += 1;
+        if self.verify_region_every_steps > 0
+            && self.steps.is_multiple_of(self.verify_region_every_steps)
+        {
+            let misses = self.region.misses(&self.grid, &position);
+            assert!(
+                misses == 0,
+                "contact `{}`: {misses} slaves outside the region of interest lie inside a \
+                 master face's box at step {}",
+                self.name,
+                self.steps
+            );
+        }
+    }
+
+    /// What the slaves' search and update read this step.
+    fn context<'a>(
+        &'a self,
+        u: &'a [P3],
+        v: &'a [P3],
+        dt_s: f64,
+        accept_open_gap: bool,
+    ) -> SlaveContext<'a> {
+        SlaveContext {
+            grid: &self.grid,
+            faces: &self.faces,
+            face_stiffness_n_per_m: &self.face_stiffness_n_per_m,
+            slave_penalty_n_per_m: self.slave_penalty_n_per_m.as_deref(),
+            slave_stiffness_cap: &self.slave_stiffness_cap,
+            friction: &self.friction,
+            patch_slip_speed_m_per_s: self.patch_slip_speed(),
+            search_margin_m: self.search_margin_m,
+            accept_open_gap,
+            reference: &self.reference,
+            slaves: &self.slaves,
+            u,
+            v,
+            dt_s,
+        }
+    }
+
+    /// The patch's slip speed when every node reads it ([`SlipSpeed::Patch`]); None: each its own.
+    fn patch_slip_speed(&self) -> Option<f64> {
+        match self.slip_speed {
+            SlipSpeed::Node => None,
+            SlipSpeed::Patch => {
+                let v = self.patch_slip_velocity_m_per_s;
+                Some(dot(v, v).sqrt())
+            }
+        }
+    }
+
+    /// Adds the region's slave forces (`forces`) to the slaves and their faces' nodes.
+    fn scatter_forces(&mut self, force: &mut [P3]) {
+        // Scatter (serial: slaves share master nodes), and the invariants' monitors over the
+        // slaves in contact: only the region's can be (the others' entries are empty), visited
+        // in slave order as a loop over every slave would.
+        let (mut largest_ratio, mut deepest) =
+            (self.largest_shear_over_bound, self.deepest_penetration_m);
+        // The patch's sliding velocity for the next step, summed in slave order (serially, so
+        // that it does not depend on the thread count).
+        let (mut weighted_slip, mut normal_sum) = ([0.0; 3], 0.0);
+        for &k in &self.region.slaves {
+            let k = k as usize;
+            let s = self.slaves[k];
+            let (f, w, fi) = self.forces[k];
+            if fi == u32::MAX {
+                continue;
+            }
+            let st = &self.state[k];
+            let bound = st.mu * st.normal_force_n;
+            let shear = dot(st.tangential_force_n, st.tangential_force_n).sqrt();
+            let ratio = if bound > 0.0 {
+                shear / bound
+            } else if shear > 0.0 {
+                f64::INFINITY
+            } else {
+                0.0
+            };
+            largest_ratio = largest_ratio.max(ratio);
+            deepest = deepest.max(st.penetration_m);
+            for d in 0..3 {
+                weighted_slip[d] += st.normal_force_n * st.slip_velocity_m_per_s[d];
+            }
+            normal_sum += st.normal_force_n;
+            for d in 0..3 {
+                force[s][d] += f[d];
+            }
+            let face = self.faces[fi as usize];
+            for (j, &m) in face.iter().enumerate() {
+                for d in 0..3 {
+                    force[m][d] -= w[j] * f[d];
+                }
+            }
+        }
+        self.largest_shear_over_bound = largest_ratio;
+        self.deepest_penetration_m = deepest;
+        // A step with no slave in contact (a block chattering on its penalty springs) has no
+        // sliding velocity of its own: the last one holds, rather than the static coefficient
+        // for the slaves that touch down next.
+        if normal_sum > 0.0 {
+            self.patch_slip_velocity_m_per_s = weighted_slip.map(|c| c / normal_sum);
+        }
+    }
+
     fn build_grid(&mut self, u: &[P3]) {
         let pos = |n: usize| -> P3 { [0, 1, 2].map(|i| self.reference[n][i] + u[n][i]) };
         // Each face's box is widened by the rebuild distance (how far its nodes may move before
@@ -566,6 +725,17 @@ impl ContactPair {
     /// the active slaves' slip velocities, which [`SlipSpeed::Patch`] evaluates the law at.
     pub fn patch_slip_velocity_m_per_s(&self) -> P3 {
         self.patch_slip_velocity_m_per_s
+    }
+
+    /// Exact enforcement so far ([`exact`]): the most Gauss-Seidel sweeps a step took, the
+    /// steps that stopped at [`exact::MAX_SWEEPS`] unconverged, and the contact node-steps
+    /// held for want of a free motion (fixed, prescribed, tied or rigid nodes).
+    pub fn exact_statistics(&self) -> (usize, usize, usize) {
+        (
+            self.exact.largest_sweeps,
+            self.exact.unconverged_steps,
+            self.exact.held_node_steps,
+        )
     }
 
     /// Slaves searched in the last step (all of them with [`ContactSearch::Full`]).
@@ -683,73 +853,24 @@ impl AuxForces for ContactPair {
     }
 
     fn add_forces(&mut self, _time_s: f64, dt_s: f64, u: &[P3], v: &[P3], force: &mut [P3]) {
-        if self.needs_rebuild(u) {
-            // Rare (when nodes moved half a face): allocation here is outside the steady loop.
-            self.build_grid(u);
-        }
-        let (reference, slaves) = (&self.reference, &self.slaves);
-        let position = |k: usize| -> P3 {
-            let n = slaves[k];
-            [0, 1, 2].map(|i| reference[n][i] + u[n][i])
-        };
-        if self.region.needs_rebuild(&position) {
-            self.region.rebuild(
-                &self.grid,
-                self.search,
-                &position,
-                &mut self.state,
-                &mut self.forces,
-            );
-        }
-        self.steps += 1;
-        if self.verify_region_every_steps > 0
-            && self.steps.is_multiple_of(self.verify_region_every_steps)
-        {
-            let misses = self.region.misses(&self.grid, &position);
-            assert!(
-                misses == 0,
-                "contact `{}`: {misses} slaves outside the region of interest lie inside a \
-                 master face's box at step {}",
-                self.name,
-                self.steps
-            );
-        }
-        // The region's slaves, gathered so that parallel chunks own their states.
-        let region = &mut self.region;
-        region.state.clear();
-        region.forces.clear();
-        for &k in &region.slaves {
-            region.state.push(self.state[k as usize]);
-            region.forces.push(self.forces[k as usize]);
+        self.prepare_search(u);
+        // The region's slaves, gathered so that parallel chunks own their states (the work
+        // vectors are moved out and back: no allocation).
+        let mut states = std::mem::take(&mut self.region.state);
+        let mut forces = std::mem::take(&mut self.region.forces);
+        states.clear();
+        forces.clear();
+        for &k in &self.region.slaves {
+            states.push(self.state[k as usize]);
+            forces.push(self.forces[k as usize]);
         }
         // Slaves in parallel chunks: each slave's search, penalty and friction update touch only
         // its own state, so the result does not depend on the thread count.
-        let ctx = SlaveContext {
-            grid: &self.grid,
-            faces: &self.faces,
-            face_stiffness_n_per_m: &self.face_stiffness_n_per_m,
-            slave_penalty_n_per_m: self.slave_penalty_n_per_m.as_deref(),
-            slave_stiffness_cap: &self.slave_stiffness_cap,
-            friction: &self.friction,
-            patch_slip_speed_m_per_s: match self.slip_speed {
-                SlipSpeed::Node => None,
-                SlipSpeed::Patch => {
-                    let v = self.patch_slip_velocity_m_per_s;
-                    Some(dot(v, v).sqrt())
-                }
-            },
-            search_margin_m: self.search_margin_m,
-            reference: &self.reference,
-            slaves: &self.slaves,
-            u,
-            v,
-            dt_s,
-        };
-        let indices = &region.slaves;
-        region
-            .state
+        let ctx = self.context(u, v, dt_s, false);
+        let indices = &self.region.slaves;
+        states
             .par_chunks_mut(SLAVE_CHUNK)
-            .zip(region.forces.par_chunks_mut(SLAVE_CHUNK))
+            .zip(forces.par_chunks_mut(SLAVE_CHUNK))
             .enumerate()
             .for_each(|(c, (states, forces))| {
                 for (j, (st, out)) in states.iter_mut().zip(forces.iter_mut()).enumerate() {
@@ -760,58 +881,30 @@ impl AuxForces for ContactPair {
                     }
                 }
             });
-        for (j, &k) in region.slaves.iter().enumerate() {
-            self.state[k as usize] = region.state[j];
-            self.forces[k as usize] = region.forces[j];
+        for (j, &k) in self.region.slaves.iter().enumerate() {
+            self.state[k as usize] = states[j];
+            self.forces[k as usize] = forces[j];
         }
-        // Scatter (serial: slaves share master nodes), and the invariants' monitors over the
-        // slaves in contact: only the region's can be (the others' entries are empty), visited
-        // in slave order as a loop over every slave would.
-        let (mut largest_ratio, mut deepest) =
-            (self.largest_shear_over_bound, self.deepest_penetration_m);
-        // The patch's sliding velocity for the next step, summed in slave order (serially, so
-        // that it does not depend on the thread count).
-        let (mut weighted_slip, mut normal_sum) = ([0.0; 3], 0.0);
-        for &k in &self.region.slaves {
-            let k = k as usize;
-            let s = self.slaves[k];
-            let (f, w, fi) = self.forces[k];
-            if fi == u32::MAX {
-                continue;
-            }
-            let st = &self.state[k];
-            let bound = st.mu * st.normal_force_n;
-            let shear = dot(st.tangential_force_n, st.tangential_force_n).sqrt();
-            let ratio = if bound > 0.0 {
-                shear / bound
-            } else if shear > 0.0 {
-                f64::INFINITY
-            } else {
-                0.0
-            };
-            largest_ratio = largest_ratio.max(ratio);
-            deepest = deepest.max(st.penetration_m);
-            for d in 0..3 {
-                weighted_slip[d] += st.normal_force_n * st.slip_velocity_m_per_s[d];
-            }
-            normal_sum += st.normal_force_n;
-            for d in 0..3 {
-                force[s][d] += f[d];
-            }
-            let face = self.faces[fi as usize];
-            for (j, &m) in face.iter().enumerate() {
-                for d in 0..3 {
-                    force[m][d] -= w[j] * f[d];
-                }
-            }
-        }
-        self.largest_shear_over_bound = largest_ratio;
-        self.deepest_penetration_m = deepest;
-        // A step with no slave in contact (a block chattering on its penalty springs) has no
-        // sliding velocity of its own: the last one holds, rather than the static coefficient
-        // for the slaves that touch down next.
-        if normal_sum > 0.0 {
-            self.patch_slip_velocity_m_per_s = weighted_slip.map(|c| c / normal_sum);
+        self.region.state = states;
+        self.region.forces = forces;
+        self.scatter_forces(force);
+    }
+
+    /// Exact enforcement ([`exact`]) on steps that predict the free motion; the penalty's
+    /// otherwise (and on multi-rate steps, which predict nothing).
+    fn add_forces_predicted(
+        &mut self,
+        time_s: f64,
+        dt_s: f64,
+        u: &[P3],
+        v: &[P3],
+        force: &mut [P3],
+        predictor: &StepPredictor,
+    ) {
+        if self.enforcement == Enforcement::Exact && !predictor.multi_rate() {
+            self.add_exact_forces(dt_s, u, v, force, predictor);
+        } else {
+            self.add_forces(time_s, dt_s, u, v, force);
         }
     }
 

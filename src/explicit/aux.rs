@@ -10,6 +10,21 @@ pub trait AuxForces {
     /// Adds forces at time `time_s` for the state `u` (at t_n) and `v` (at t_{n-1/2}) into
     /// `force` (N). Must not allocate.
     fn add_forces(&mut self, time_s: f64, dt_s: f64, u: &[P3], v: &[P3], force: &mut [P3]);
+    /// [`AuxForces::add_forces`] with the step's prediction of where the nodes go without
+    /// these forces ([`StepPredictor`]): what a constraint enforced exactly needs (contact by
+    /// forward-increment Lagrange multipliers). The engine's step calls this one; by default it
+    /// is `add_forces`.
+    fn add_forces_predicted(
+        &mut self,
+        time_s: f64,
+        dt_s: f64,
+        u: &[P3],
+        v: &[P3],
+        force: &mut [P3],
+        _predictor: &StepPredictor,
+    ) {
+        self.add_forces(time_s, dt_s, u, v, force);
+    }
     /// Every node [`AuxForces::add_forces`] can ever write, or `None` (the default) when it may
     /// write any. Declared to the solver ([`super::Solver::declare_aux_force_nodes`]), this
     /// lets the step zero and read the auxiliary forces of these nodes only.
@@ -67,6 +82,71 @@ pub trait AuxForces {
                 "checkpoint holds contact state this run does not have",
             ))
         }
+    }
+}
+
+/// What a step knows of a node before the auxiliary forces are added: the half-step velocity
+/// it reaches without them,
+///
+/// `v*_{n+1/2} = v_{n-1/2} + dt M^-1 (f_aux - f_int + m g - alpha m v_{n-1/2})`
+///
+/// (node_update.rs, with `f_aux` the loads and springs gathered so far), and its inverse mass,
+/// so that a force `f` added at t_n moves it to `v*_{n+1/2} + dt f / m` exactly. Only for nodes
+/// the update moves freely: no fixed or prescribed component, not a tie slave or a rigid
+/// body's node, on a single-rate step (a multi-rate level updates at its own step). A tie
+/// slave moves with its masters ([`StepPredictor::tie_masters`]); their `f_int` holds the
+/// slaves' passed element forces, their `f_aux` not yet the slaves' loads and springs (passed
+/// after the auxiliary forces), which the rolling models do not put on contact nodes.
+pub struct StepPredictor<'a> {
+    pub(super) dt_s: f64,
+    pub(super) f_int: &'a [P3],
+    pub(super) inv_mass: &'a [f64],
+    pub(super) eff_mass: &'a [f64],
+    pub(super) gravity_mass: &'a [f64],
+    pub(super) gravity_m_per_s2: P3,
+    pub(super) mass_damping_per_s: f64,
+    pub(super) role: &'a [u8],
+    pub(super) ties: &'a [crate::mesh::tie::TiePair],
+    pub(super) tie_of_node: &'a [u32],
+    pub(super) multi_rate: bool,
+}
+
+impl StepPredictor<'_> {
+    /// The master nodes and weights of node `nd` when it is a tie slave: it then moves as
+    /// `sum w_k v_k` of its masters, and a force on it acts on master k as `w_k f`.
+    #[inline]
+    pub fn tie_masters(&self, nd: usize) -> Option<([usize; 4], [f64; 4])> {
+        let i = self.tie_of_node[nd];
+        (i != u32::MAX).then(|| {
+            let t = &self.ties[i as usize];
+            (t.master, t.weights)
+        })
+    }
+
+    /// Whether the step is multi-rate (then no node is predicted).
+    pub fn multi_rate(&self) -> bool {
+        self.multi_rate
+    }
+
+    /// `(v*_{n+1/2}, 1 / m)` of node `nd` with velocity `v_old` (v_{n-1/2}) and auxiliary force
+    /// so far `f_aux`; None for a node the update does not move freely (type docs). The same
+    /// operations in the same order as the node update's free path.
+    #[inline]
+    pub fn free_update(&self, nd: usize, v_old: P3, f_aux: P3) -> Option<(P3, f64)> {
+        if self.multi_rate || self.role[nd] != 0 {
+            return None;
+        }
+        let (m, mg, im) = (self.eff_mass[nd], self.gravity_mass[nd], self.inv_mass[nd]);
+        let (g, alpha, fi) = (
+            self.gravity_m_per_s2,
+            self.mass_damping_per_s,
+            self.f_int[nd],
+        );
+        let v_new = [0, 1, 2].map(|i| {
+            let force = f_aux[i] - fi[i] + mg * g[i] - alpha * m * v_old[i];
+            v_old[i] + self.dt_s * force * im
+        });
+        Some((v_new, im))
     }
 }
 

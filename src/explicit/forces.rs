@@ -6,7 +6,7 @@
 // Index loops mirror the tensor notation of the equations (the project's style for kernels).
 #![allow(clippy::needless_range_loop)]
 
-use super::aux::AuxForces;
+use super::aux::{AuxForces, StepPredictor};
 use super::phase_clock::StepPhase;
 use super::solver::{Solver, PRESCRIBED_SHIFT, ROLE_RIGID, ROLE_SLAVE};
 use crate::mesh::P3;
@@ -14,11 +14,15 @@ use crate::mesh::P3;
 impl Solver {
     /// The forces of the state `(u_n, v_{n-1/2})` at time `t`: elements into `f_int`; nodal
     /// loads, springs and the caller's forces (contact) into `f_aux`; tie slaves' forces passed
-    /// on to their masters. Shared by the time step and the static solver, so that both see the
-    /// same forces.
+    /// on to their masters (the element forces before the caller's, so that its prediction of
+    /// the masters' motion has them: [`StepPredictor`]). Shared by the time step and the static
+    /// solver, so that both see the same forces.
     pub(super) fn gather_forces<A: AuxForces + ?Sized>(&mut self, aux: &mut A, t: f64, dt: f64) {
         self.element_forces();
         self.lap(StepPhase::Elements);
+        // Tie slaves pass their element forces to the masters (the same sums, in the same
+        // order, as passing them with the auxiliary forces below).
+        self.tie_gather.pass(&mut self.f_int);
         // Auxiliary forces: nodal loads, springs, then the caller's (contact).
         self.zero_aux_forces();
         self.lap(StepPhase::AuxZero);
@@ -51,18 +55,26 @@ impl Solver {
             }
         }
         self.lap(StepPhase::Discrete);
-        aux.add_forces(t, dt, &self.u, &self.v, &mut self.f_aux);
+        let predictor = StepPredictor {
+            dt_s: dt,
+            f_int: &self.f_int,
+            inv_mass: &self.inv_mass,
+            eff_mass: &self.eff_mass,
+            gravity_mass: &self.gravity_mass,
+            gravity_m_per_s2: self.model.gravity_m_per_s2,
+            mass_damping_per_s: self.model.mass_damping_per_s,
+            role: &self.role,
+            ties: &self.model.ties,
+            tie_of_node: &self.tie_of_node,
+            multi_rate: self.multi_rate.is_some(),
+        };
+        aux.add_forces_predicted(t, dt, &self.u, &self.v, &mut self.f_aux, &predictor);
         self.lap(StepPhase::Contact);
-        // Tie slaves pass their forces to the masters.
+        // Tie slaves pass their auxiliary forces to the masters.
         match &self.tie_gather_aux {
             // Undeclared slaves carry no auxiliary force: their masters get none to pass on.
-            Some(aux_gather) => {
-                self.tie_gather.pass(&mut self.f_int);
-                aux_gather.pass(&mut self.f_aux);
-            }
-            None => self
-                .tie_gather
-                .pass_forces(&mut self.f_int, &mut self.f_aux),
+            Some(aux_gather) => aux_gather.pass(&mut self.f_aux),
+            None => self.tie_gather.pass(&mut self.f_aux),
         }
         self.lap(StepPhase::TiePass);
     }

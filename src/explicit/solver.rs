@@ -96,6 +96,8 @@ pub struct Solver {
     pub(super) multi_rate: Option<super::levels::MultiRate>,
     /// The ties' force pass as a per-master gather, built from `model.ties` by [`Solver::new`].
     pub(super) tie_gather: super::tie_update::TieGather,
+    /// Per node: the index of its tie in `model.ties` when it is a tie slave, else `u32::MAX`.
+    pub(super) tie_of_node: Vec<u32>,
     /// Wall time by phase of the step, when asked for ([`Solver::time_phases`]).
     pub(super) phase_clock: Option<PhaseClock>,
     /// Whether a node's auxiliary force can be non-zero ([`super::aux_nodes`]; all by default).
@@ -341,6 +343,13 @@ impl Solver {
             multi_rate: None,
             unscaled_dt_s: 0.0,
             tie_gather: super::tie_update::TieGather::new(&model.ties, n),
+            tie_of_node: {
+                let mut of = vec![u32::MAX; n];
+                for (i, t) in model.ties.iter().enumerate() {
+                    of[t.slave] = i as u32;
+                }
+                of
+            },
             phase_clock: None,
             aux_force_node: vec![true; n],
             aux_zero: None,

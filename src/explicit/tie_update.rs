@@ -67,11 +67,6 @@ impl TieGather {
         }
     }
 
-    /// `f_m += w f_s` for both force arrays, every master in parallel.
-    pub(super) fn pass_forces(&self, f_int: &mut [P3], f_aux: &mut [P3]) {
-        self.pass_into([f_int, f_aux]);
-    }
-
     /// `f_m += w f_s` for one force array, every master in parallel.
     pub(super) fn pass(&self, force: &mut [P3]) {
         self.pass_into([force]);
@@ -232,7 +227,8 @@ mod tests {
                 rigid_reaction_force_n: Vec::new(),
             };
             pool.install(|| {
-                gather.pass_forces(&mut fi, &mut fa);
+                gather.pass(&mut fi);
+                gather.pass(&mut fa);
                 follow_masters(&ties, &mut u, &mut v, Some(&mut out));
             });
             assert_eq!(fi, fi_ref, "{threads} threads");

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+pub use super::enforcement::Enforcement;
 pub use super::lateral::{LateralMotion, LateralRamp, LateralTable};
 pub use super::time_stepping::{MultiRateMode, TimeSteppingSpec};
 use crate::friction::{FrictionLaw, SlipSpeed};
@@ -16,6 +17,11 @@ use crate::friction::{FrictionLaw, SlipSpeed};
 /// Leaves the default slip speed out of written cases (run.json), as before the field existed.
 fn is_node_slip(s: &SlipSpeed) -> bool {
     *s == SlipSpeed::Node
+}
+
+/// Leaves the default enforcement out of written cases (run.json), as before the field existed.
+fn is_penalty(e: &Enforcement) -> bool {
+    *e == Enforcement::Penalty
 }
 use crate::input::Checker;
 use crate::scenario::LoadedScenario;
@@ -250,6 +256,12 @@ pub struct RollingCase {
     /// nodes; [`SlipSpeed`] says why). No effect on a constant coefficient.
     #[serde(default, skip_serializing_if = "is_node_slip")]
     pub friction_slip_speed: SlipSpeed,
+    /// How the rolling run enforces the contact: `penalty` (the default and the paper's) or
+    /// `exact` (forward-increment Lagrange multipliers, `contact::exact`: no penetration and
+    /// no penalty compliance). The static preload is the penalty's either way, so
+    /// `penalty_scale` still sets it.
+    #[serde(default, skip_serializing_if = "is_penalty")]
+    pub contact_enforcement: Enforcement,
     /// Penalty scale factor `s` in `k = s K A^2 / V`.
     pub penalty_scale: f64,
     /// A penalty per unit area (mm): each slave's stiffness `s K A_s / L` from its tributary

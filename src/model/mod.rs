@@ -19,6 +19,7 @@
 
 pub mod case;
 pub mod curve;
+pub mod enforcement;
 pub mod lateral;
 pub mod modal;
 pub mod rolling;

@@ -167,6 +167,7 @@ pub fn build(loaded: &LoadedCase) -> Result<RollingModel> {
     )
     .map_err(|e| Error::input(&source, "penalty_scale / friction", e.to_string()))?;
     pair.slip_speed = case.friction_slip_speed;
+    pair.enforcement = case.contact_enforcement;
     if let Some(length_mm) = case.penalty_length_mm {
         pair.use_area_penalty(c.bulk_modulus_pa, length_mm * 1e-3);
     }

@@ -146,6 +146,23 @@ pub struct RunRecord {
     /// Where the contact sat on both profiles, its angle, and the flange clearance, at the
     /// start of rolling (or the resume) and over the run (`run.json` merges the segments).
     pub contact_point: Option<ContactPointRecord>,
+    /// Exact contact's solver over this segment (absent for a penalty contact).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exact_contact: Option<ExactContactRecord>,
+}
+
+/// What the exact contact's solve did over a segment (`contact::exact`).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct ExactContactRecord {
+    /// The most projected Gauss-Seidel sweeps a step took.
+    pub largest_sweeps: usize,
+    /// Steps that stopped at the sweep limit unconverged.
+    pub unconverged_steps: usize,
+    /// Contact node-steps held for want of a free motion (fixed, prescribed, tied, rigid).
+    pub held_node_steps: usize,
+    /// The deepest penetration at the last step (m): what is left of the preload's penalty
+    /// penetration, which relaxes with `contact::exact::GAP_RELAXATION_S`.
+    pub final_deepest_penetration_m: f64,
 }
 
 /// Longest loss of contact accepted as a bounce (s); longer is lift-off or derailment.
@@ -518,6 +535,24 @@ impl RecordParts {
             largest_node_shear_over_bound: contact.pair.largest_shear_over_bound,
             deepest_penetration_m: contact.pair.deepest_penetration_m,
             contact_point: contact.contact_point,
+            exact_contact: (contact.pair.enforcement == crate::contact::Enforcement::Exact).then(
+                || {
+                    let (largest_sweeps, unconverged_steps, held_node_steps) =
+                        contact.pair.exact_statistics();
+                    ExactContactRecord {
+                        largest_sweeps,
+                        unconverged_steps,
+                        held_node_steps,
+                        final_deepest_penetration_m: contact
+                            .pair
+                            .state
+                            .iter()
+                            .filter(|s| s.active)
+                            .map(|s| s.penetration_m)
+                            .fold(0.0, f64::max),
+                    }
+                },
+            ),
         }
     }
 }

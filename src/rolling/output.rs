@@ -273,6 +273,19 @@ impl AuxForces for RollingContact {
         self.pair.add_forces(time_s, dt_s, u, v, force);
     }
 
+    fn add_forces_predicted(
+        &mut self,
+        time_s: f64,
+        dt_s: f64,
+        u: &[P3],
+        v: &[P3],
+        force: &mut [P3],
+        predictor: &crate::explicit::aux::StepPredictor,
+    ) {
+        self.pair
+            .add_forces_predicted(time_s, dt_s, u, v, force, predictor);
+    }
+
     fn force_nodes(&self) -> Option<Vec<usize>> {
         self.pair.force_nodes()
     }

@@ -94,6 +94,20 @@ fn staged_preload(
     Ok(report)
 }
 
+/// Runs `preload` with the contact enforced by its penalty, then puts the case's enforcement
+/// back: the static equilibrium the run starts from is the penalty's (the implicit solver's
+/// tangent is the penalty's stiffness), and an exact run relaxes the penetration left
+/// (`contact::exact`).
+fn with_penalty<T>(m: &mut RollingModel, preload: impl FnOnce(&mut RollingModel) -> T) -> T {
+    let enforcement = std::mem::replace(
+        &mut m.contact.pair.enforcement,
+        crate::contact::Enforcement::Penalty,
+    );
+    let outcome = preload(m);
+    m.contact.pair.enforcement = enforcement;
+    outcome
+}
+
 /// The static preload by dynamic relaxation, with the preload's inertia scaling.
 pub(super) fn relaxation_preload(
     m: &mut RollingModel,
@@ -103,7 +117,7 @@ pub(super) fn relaxation_preload(
     if let Some(dt) = case.preload.time_step_s {
         m.solver.set_inertia_scaling(&m.preload_added_mass_kg, dt)?;
     }
-    let report = staged_preload(m, &case.preload, &opts.stop);
+    let report = with_penalty(m, |m| staged_preload(m, &case.preload, &opts.stop));
     m.solver.clear_inertia_scaling();
     let report = report?;
     if opts.progress {
@@ -145,18 +159,20 @@ pub(super) fn implicit_preload(
 ) -> Result<StaticReport> {
     let mut held = vec![[false; 3]; m.solver.model.rigid_bodies.len()];
     held[m.axle_body][0] = true;
-    let report = solve_static(
-        &mut m.solver,
-        &mut m.contact,
-        &StaticOptions {
-            tolerance: preload.tolerance,
-            held_rigid_translations: held,
-            linear_solver,
-            trace: std::env::var_os("SQUEAL_PRELOAD_TRACE").is_some(),
-            stop: stop.clone(),
-            ..Default::default()
-        },
-    )?;
+    let report = with_penalty(m, |m| {
+        solve_static(
+            &mut m.solver,
+            &mut m.contact,
+            &StaticOptions {
+                tolerance: preload.tolerance,
+                held_rigid_translations: held,
+                linear_solver,
+                trace: std::env::var_os("SQUEAL_PRELOAD_TRACE").is_some(),
+                stop: stop.clone(),
+                ..Default::default()
+            },
+        )
+    })?;
     let load_error = preload_load_error(m);
     m.info.preload_load_error = load_error;
     if load_error.abs() >= preload.load_tolerance {

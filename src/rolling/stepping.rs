@@ -17,6 +17,7 @@
 //! multi-rate go unstable at 5.2 ms. With that margin none of the models in data/models saves
 //! enough for `auto` to subcycle (`paper` 0.894, `demo` 0.986 of the element work).
 
+use crate::contact::Enforcement;
 use crate::explicit::levels::{partition_with, LevelPartition, LevelScheme};
 use crate::explicit::multirate::element_transits_s;
 use crate::model::time_stepping::{MultiRateMode, TimeSteppingSpec};
@@ -77,6 +78,22 @@ pub fn choose_stepping(
     };
     if mode == MultiRateMode::Off {
         return Ok(single(format!("single rate ({by}: off)"), None));
+    }
+    // Exact contact needs every contact node's free motion over the step it solves for
+    // (explicit::aux::StepPredictor), which a subcycled level does not have.
+    if m.contact.pair.enforcement == Enforcement::Exact {
+        if mode == MultiRateMode::On {
+            return Err(Error::input(
+                source,
+                "time_stepping.multi_rate",
+                "`on` refused: exact contact (contact_enforcement) steps single rate; must be \
+                 `off` or `auto` with it",
+            ));
+        }
+        return Ok(single(
+            format!("single rate ({by}: exact contact steps single rate)"),
+            None,
+        ));
     }
     // The guard: the slaves' own levels, from their elements' stable steps alone.
     let model = &m.solver.model;
