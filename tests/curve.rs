@@ -192,12 +192,25 @@ fn correlation(a: &[f64], b: &[f64]) -> f64 {
 #[test]
 #[ignore]
 fn yawed_demo_wheel_creep_forces_against_kalker() {
+    creep_forces_against_kalker(squeal::contact::Enforcement::Penalty, &[1.0, 2.0, 10.0]);
+}
+
+/// The same check with exact contact (`contact_enforcement: exact`): the penalty layer's
+/// tangential compliance, one suspect for the factor of two below saturation, is gone.
+#[test]
+#[ignore]
+fn yawed_demo_wheel_creep_forces_against_kalker_with_exact_contact() {
+    creep_forces_against_kalker(squeal::contact::Enforcement::Exact, &[2.0, 1.0, 10.0]);
+}
+
+fn creep_forces_against_kalker(enforcement: squeal::contact::Enforcement, psis_mrad: &[f64]) {
     use squeal::analysis::creep_check::check_creep_forces;
     let mut failures = Vec::new();
-    for psi_mrad in [1.0, 2.0, 10.0] {
+    for &psi_mrad in psis_mrad {
         let mut loaded = load_case(Path::new("data/cases/case5-demo.json")).unwrap();
         let case = &mut loaded.case;
-        case.name = format!("creep-check-{psi_mrad}mrad");
+        case.contact_enforcement = enforcement;
+        case.name = format!("creep-check-{}-{psi_mrad}mrad", enforcement.word());
         case.end_time_s = 0.04;
         case.torque.max_n_m = 0.0;
         case.lateral_motion = None;
@@ -206,15 +219,20 @@ fn yawed_demo_wheel_creep_forces_against_kalker() {
         });
         case.friction = squeal::friction::FrictionLaw::Coulomb { mu: 0.45 };
         case.output.patch_times_s.clear();
-        let (record, dir) = run_in_temp(&loaded, &format!("squeal_creep_check_{psi_mrad}"), None);
+        let (record, dir) = run_in_temp(
+            &loaded,
+            &format!("squeal_creep_check_{}_{psi_mrad}", enforcement.word()),
+            None,
+        );
         assert_eq!(record.run.status, "completed");
         let radius_m = loaded.scenario.wheel.tread_radius_mm(0.0) * 1e-3;
         let material = loaded.scenario.wheel.material;
         let c = check_creep_forces(&loaded, &dir, 30.0, 40.0, radius_m, material).unwrap();
         eprintln!(
-            "psi {psi_mrad} mrad: N {:.0} N, run (Fx, Fy) ({:.0}, {:.0}) N, halves of Fy {:.0} / {:.0} N \
+            "{} contact, psi {psi_mrad} mrad: N {:.0} N, run (Fx, Fy) ({:.0}, {:.0}) N, halves of Fy {:.0} / {:.0} N \
              (quasi-steady: {}), Kalker ({:.0}, {:.0}) N at xi {:.2e}, eta {:.2e}, phi {:.3} /m; \
              Fy run / Kalker {:.3}; |F| / (mu N) {:.3}",
+            enforcement.word(),
             c.normal_force_n,
             c.run_creep_force_n[0],
             c.run_creep_force_n[1],
@@ -450,6 +468,52 @@ fn the_patch_speed_runs_squeal_in_a_mode_that_follows_the_penalty() {
     assert_eq!(mode, "(0,6)");
     assert!((f - 3848.8).abs() < 0.1 && (x - 11.7).abs() < 0.05 && (rate - 7.0).abs() < 1.0);
     assert!(!cycle, "+20 % on the span before: still growing");
+}
+
+/// Item 2's constant-mu curve runs (penalty contact, node slip speed: the law is constant),
+/// by the criteria fixed before the runs. What the physics gave, first judged 2026-11-29
+/// (docs/curving.md): at mu 0.45 and 20 mrad the wheel squeals in (0,4) axial at 1890.1 Hz
+/// (x20, +12 /s, still growing at 300 ms; judged at 300 ms so that the run's extension to 400
+/// ms does not move this); at 10 mrad no harmonic reaches x10 at a named mode (lateral n = 5
+/// at 4079.6 Hz, x9.5, levelled off at 400 ms); at mu 0.30 and 10 mrad the wheel squeals in
+/// (0,9) axial at 6985.9 Hz (x14, +10 /s). A change that moves these makes this test say so;
+/// they are not targets.
+#[test]
+fn the_constant_mu_curve_runs_by_the_fixed_criteria() {
+    use squeal::analysis::ring_growth::{ring_growth, GrowthCriteria, RingGrowth};
+    let judge = |run: &str, to_s: Option<f64>| -> RingGrowth {
+        ring_growth(Path::new(run), None, &GrowthCriteria::default(), to_s).unwrap()
+    };
+    let g = judge("data/runs/curve/curve-mu045-20mrad", Some(0.300));
+    assert!(g.verdict.squeals, "{}", g.verdict.summary);
+    let lead = &g.harmonics[g.verdict.leading.unwrap()];
+    assert_eq!((lead.direction, lead.n), (RingDirection::Lateral, 4));
+    assert_eq!(lead.final_mode.as_ref().unwrap().label(), "(0,4)");
+    // To the table's digits: 0.1 Hz, x to 0.5, the rate to 1 /s.
+    let (f, x, rate) = (
+        lead.final_peak_hz.unwrap(),
+        lead.growth_factor,
+        lead.growth_rate_per_s.unwrap(),
+    );
+    assert!((f - 1890.1).abs() < 0.1 && (x - 20.3).abs() < 0.5 && (rate - 12.0).abs() < 1.0);
+    assert!(!lead.limit_cycle, "+89 % over the last span");
+    let g = judge("data/runs/curve/curve-mu045-10mrad", None);
+    assert!(!g.verdict.squeals, "{}", g.verdict.summary);
+    let lead = &g.harmonics[g.verdict.leading.unwrap()];
+    assert_eq!((lead.direction, lead.n), (RingDirection::Lateral, 5));
+    assert!(lead.final_mode.is_none(), "4079.6 Hz is no n = 5 mode");
+    assert!((lead.final_peak_hz.unwrap() - 4079.6).abs() < 0.1);
+    assert!((lead.growth_factor - 9.5).abs() < 0.05 && lead.limit_cycle);
+    let g = judge("data/runs/curve/curve-mu030-10mrad", None);
+    assert!(g.verdict.squeals, "{}", g.verdict.summary);
+    let lead = &g.harmonics[g.verdict.leading.unwrap()];
+    assert_eq!(lead.final_mode.as_ref().unwrap().label(), "(0,9)");
+    let (f, x, rate) = (
+        lead.final_peak_hz.unwrap(),
+        lead.growth_factor,
+        lead.growth_rate_per_s.unwrap(),
+    );
+    assert!((f - 6985.9).abs() < 0.1 && (x - 13.9).abs() < 0.5 && (rate - 10.0).abs() < 1.0);
 }
 
 #[test]
