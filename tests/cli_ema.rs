@@ -161,6 +161,7 @@ fn fe_modes_are_recovered_from_a_test_synthesised_from_them() {
         squeal::material::Material::STEEL,
         &squeal::model::modal::Clamp::parse("x<0.001").unwrap(),
         squeal::fem::Hex8Kind::Incompatible,
+        Some(1),
     )
     .unwrap();
     let fmax_hz = 1500.0;

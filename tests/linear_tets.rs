@@ -60,7 +60,14 @@ fn tet4_beam(nx: usize, ns: usize) -> VolumeMesh {
 
 fn first_frequency_hz(mesh: VolumeMesh) -> f64 {
     let clamp = Clamp::parse("x<0.0001").unwrap();
-    let model = mesh_model(mesh, Material::STEEL, &clamp, Hex8Kind::Incompatible).unwrap();
+    let model = mesh_model(
+        mesh,
+        Material::STEEL,
+        &clamp,
+        Hex8Kind::Incompatible,
+        Some(1),
+    )
+    .unwrap();
     let solution = solve(
         &model.assembled.k,
         &model.assembled.m,

@@ -603,3 +603,132 @@ fn bench_modal_matches_modes_on_exported_wheel_and_mesh_cli_runs() {
     }
     let _ = std::fs::remove_dir_all(tmp_dir("bench"));
 }
+
+/// The (family, nodal circles, nodal diameters) and frequency of every flexible mode in a
+/// `modes` output folder.
+fn labels(dir: &std::path::Path) -> Vec<(String, u64, u64, f64)> {
+    let modes: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("modes.json")).unwrap()).unwrap();
+    modes
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|m| m["family"] != "rigid")
+        .map(|m| {
+            (
+                m["family"].as_str().unwrap().to_string(),
+                m["nodal_circles"].as_u64().unwrap(),
+                m["nodal_diameters"].as_u64().unwrap(),
+                m["frequency_hz"].as_f64().unwrap(),
+            )
+        })
+        .collect()
+}
+
+/// Issue 53, item 16: a body whose axis of revolution is x is labelled as the same body along
+/// y. The wheel revolved in 16 hex27 sectors (no tied zones, so the exported mesh is the
+/// model), read back and turned a quarter turn about z (its axis y onto x): `modes --mesh`
+/// fits the axis and gives the unturned mesh's labels at its frequencies; with `--axis y` the
+/// turned wheel gets other labels (the old behaviour: labels like (0,23)).
+#[test]
+fn a_mesh_turned_onto_the_x_axis_keeps_its_mode_labels() {
+    let run = |args: &[&str], out: &std::path::Path| -> String {
+        let o = Command::new(env!("CARGO_BIN_EXE_squeal"))
+            .args(args)
+            .arg("--out")
+            .arg(out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr)
+    };
+    let wheel = tmp("axis", "wheel");
+    run(
+        &[
+            "modes",
+            "--wheel",
+            "data/wheels/ns_intercity_920.json",
+            "--element-size-mm",
+            "40",
+            "--revolved-sectors",
+            "16",
+            "--fmax-hz",
+            "1500",
+        ],
+        &wheel,
+    );
+    let mut mesh = squeal::mesh::volume_io::read(&wheel.join("modes.vtu")).unwrap();
+    let straight = tmp("axis", "straight.vtu");
+    squeal::mesh::vtu::write_volume(&mesh, &straight, &[]).unwrap();
+    // A quarter turn about z: (x, y, z) -> (y, -x, z) takes the y axis onto x.
+    for p in mesh.nodes.iter_mut() {
+        *p = [p[1], -p[0], p[2]];
+    }
+    let turned = tmp("axis", "turned.vtu");
+    squeal::mesh::vtu::write_volume(&mesh, &turned, &[]).unwrap();
+    let (a, b, c) = (tmp("axis", "a"), tmp("axis", "b"), tmp("axis", "c"));
+    let said_a = run(
+        &[
+            "modes",
+            "--fmax-hz",
+            "1500",
+            "--mesh",
+            straight.to_str().unwrap(),
+        ],
+        &a,
+    );
+    let said_b = run(
+        &[
+            "modes",
+            "--fmax-hz",
+            "1500",
+            "--mesh",
+            turned.to_str().unwrap(),
+        ],
+        &b,
+    );
+    run(
+        &[
+            "modes",
+            "--fmax-hz",
+            "1500",
+            "--axis",
+            "y",
+            "--mesh",
+            turned.to_str().unwrap(),
+        ],
+        &c,
+    );
+    assert!(
+        said_a.contains("about the y axis") && said_b.contains("about the x axis"),
+        "{said_b}"
+    );
+    assert!(!said_b.contains("not near-axisymmetric"), "{said_b}");
+    let (la, lb, lc) = (labels(&a), labels(&b), labels(&c));
+    assert!(la.len() >= 6, "{la:?}");
+    assert_eq!(la.len(), lb.len());
+    for (x, y) in la.iter().zip(&lb) {
+        assert_eq!((&x.0, x.1, x.2), (&y.0, y.1, y.2), "{x:?} against {y:?}");
+        // The same matrices up to the order of the coordinates: 1e-6 relative.
+        assert!((x.3 / y.3 - 1.0).abs() < 1e-6, "{x:?} against {y:?}");
+    }
+    assert!(
+        la.iter()
+            .zip(&lc)
+            .any(|(x, y)| (&x.0, x.1, x.2) != (&y.0, y.1, y.2)),
+        "labelled about the wrong axis, the turned wheel kept every label"
+    );
+    // A wheel file's axis is y: --axis is refused with --wheel.
+    let o = Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .args([
+            "modes",
+            "--wheel",
+            "data/wheels/ns_intercity_920.json",
+            "--axis",
+            "x",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--axis"));
+}

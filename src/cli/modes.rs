@@ -20,6 +20,19 @@ use squeal::{Error, Result};
 
 use super::grammar::{input_name, out_dir};
 
+/// The axis a --mesh body's modes are labelled about (`--axis`).
+#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
+pub enum AxisChoice {
+    /// The fitted axis of revolution (second moments of the volume; fem/axis.rs).
+    Auto,
+    /// The x axis through the volume centroid.
+    X,
+    /// The y axis.
+    Y,
+    /// The z axis.
+    Z,
+}
+
 /// Hexahedron formulation of the stiffness (`--hex8`).
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum Hex8Choice {
@@ -115,6 +128,42 @@ pub struct ModesArgs {
     /// Write K.mtx and M.mtx (Matrix Market) to this directory.
     #[arg(long)]
     pub export_mtx: Option<PathBuf>,
+    /// The axis of revolution a --mesh body's modes are labelled (m, n) about, through its
+    /// volume centroid: `auto` (default) fits it from the body's second moments and warns when
+    /// the body is not near-axisymmetric; `x`, `y` or `z` take that axis. A wheel file's axis
+    /// is y.
+    #[arg(long, value_enum)]
+    pub axis: Option<AxisChoice>,
+}
+
+/// Says which axis a --mesh body's modes are labelled about, and warns when the body is not
+/// near-axisymmetric about its fitted axis (the labels are then descriptive only).
+fn report_axis(model: &squeal::model::modal::ModalModel, asked: bool) {
+    let Some(fit) = model.axis_fit else {
+        return;
+    };
+    let name = |a: [f64; 3]| match a {
+        [1.0, 0.0, 0.0] => "x".to_string(),
+        [0.0, 1.0, 0.0] => "y".to_string(),
+        [0.0, 0.0, 1.0] => "z".to_string(),
+        a => format!("({:.4}, {:.4}, {:.4})", a[0], a[1], a[2]),
+    };
+    println!(
+        "modes labelled about the {} axis through the volume centroid ({}; the body's fitted \
+         axis of revolution is {}, its two other second moments {:.2} % apart)",
+        name(model.axis),
+        if asked { "--axis" } else { "fitted" },
+        name(fit.axis),
+        100.0 * fit.asymmetry
+    );
+    if fit.asymmetry > squeal::fem::axis::ASYMMETRY_WARNING {
+        eprintln!(
+            "warning: the body is not near-axisymmetric ({:.1} % between the second moments \
+             normal to its axis, above {:.0} %): the (m, n) labels are descriptive only",
+            100.0 * fit.asymmetry,
+            100.0 * squeal::fem::axis::ASYMMETRY_WARNING
+        );
+    }
 }
 
 /// Run `squeal modes`.
@@ -136,6 +185,7 @@ pub fn run(args: ModesArgs) -> Result<()> {
             (args.youngs_modulus_pa.is_some(), "--youngs-modulus-pa"),
             (args.poisson_ratio.is_some(), "--poisson-ratio"),
             (args.density_kg_per_m3.is_some(), "--density-kg-per-m3"),
+            (args.axis.is_some(), "--axis"),
         ] {
             if given {
                 return Err(Error::input(
@@ -166,7 +216,14 @@ pub fn run(args: ModesArgs) -> Result<()> {
                      the default --element-order 2 elevates them to tet10"
                 );
             }
-            let model = mesh_model(mesh, material, &clamp, args.hex8.into())?;
+            let axis = match args.axis.unwrap_or(AxisChoice::Auto) {
+                AxisChoice::Auto => None,
+                AxisChoice::X => Some(0),
+                AxisChoice::Y => Some(1),
+                AxisChoice::Z => Some(2),
+            };
+            let model = mesh_model(mesh, material, &clamp, args.hex8.into(), axis)?;
+            report_axis(&model, axis.is_some());
             if let Some(n) = model.box_clamped_nodes {
                 println!("clamped {n} nodes ({})", args.clamp);
             }

@@ -5,6 +5,7 @@
 //! centre, warping constant).
 
 pub mod assembly;
+pub mod axis;
 pub mod hex27;
 pub mod hex8;
 pub mod hex8_incompatible;

@@ -5,6 +5,7 @@
 //!
 //! The command line only parses, prints and writes; everything here returns plain data.
 
+use crate::fem::axis::{rotate, to_y_axis};
 use crate::fem::Hex8Kind;
 use crate::input::wheel::WheelSpec;
 use crate::mesh::volume;
@@ -119,13 +120,27 @@ pub fn solve_and_classify(model: &ModalModel, fmax_hz: f64, slices: usize) -> Re
                     .zip(&mesh.material)
                     .map(|(e, &m)| (e.nodes(), m)),
             );
-            classify_modes_points(
-                &mesh.nodes,
-                &crate::fem::measure::nodal_weights(mesh),
-                &axle,
-                model.centre,
-                &shapes,
-            )
+            let weights = crate::fem::measure::nodal_weights(mesh);
+            if model.axis == [0.0, 1.0, 0.0] {
+                classify_modes_points(&mesh.nodes, &weights, &axle, model.centre, &shapes)
+            } else {
+                // The classifier works about y: the positions (about the centre) and the
+                // shapes turned so that the model's axis is y.
+                let r = to_y_axis(model.axis);
+                let c = model.centre;
+                let points: Vec<P3> = mesh
+                    .nodes
+                    .iter()
+                    .map(|p| rotate(&r, [p[0] - c[0], p[1] - c[1], p[2] - c[2]]))
+                    .collect();
+                let turned: Vec<(f64, f64, bool, Vec<P3>)> = shapes
+                    .iter()
+                    .map(|(f, res, rigid, u)| {
+                        (*f, *res, *rigid, u.iter().map(|v| rotate(&r, *v)).collect())
+                    })
+                    .collect();
+                classify_modes_points(&points, &weights, &axle, [0.0; 3], &turned)
+            }
         }
     };
     for record in &mut records {

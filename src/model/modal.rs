@@ -6,6 +6,7 @@
 
 use std::collections::BTreeMap;
 
+use crate::fem::axis::{fit_axis, AxisFit};
 use crate::fem::{assemble, assemble_volume, Assembled, Constraints, Hex8Kind, MassKind};
 use crate::input::wheel::WheelSpec;
 use crate::material::Material;
@@ -74,8 +75,13 @@ pub struct ModalModel {
     pub mesh: ModalMesh,
     /// K and M with the clamps and ties eliminated.
     pub assembled: Assembled,
-    /// A point of the y-parallel axis the modes are classified about (m).
+    /// A point of the axis the modes are classified about (m).
     pub centre: P3,
+    /// That axis (unit): y for a wheel file; for a mesh the fitted axis of revolution or the
+    /// one asked for (`--axis`).
+    pub axis: P3,
+    /// The fit, when the axis of a mesh was fitted (`fem::axis`).
+    pub axis_fit: Option<AxisFit>,
     /// One line on the mesh (nodes, elements, volume or sectors).
     pub summary: String,
     /// Nodes a box clamp holds, if the clamp was a box.
@@ -138,18 +144,22 @@ pub fn wheel_model(spec: &WheelSpec, clamp: &Clamp, hex8: Hex8Kind) -> Result<Mo
         assembled,
         // The axis passes through the tape-circle centre (x = z = 0 by placement).
         centre: WheelPlacement::default().tape_circle_centre_m,
+        axis: [0.0, 1.0, 0.0],
+        axis_fit: None,
         summary,
         box_clamped_nodes,
     })
 }
 
 /// An imported volume mesh of one `material`: named clamps are refused (they name wheel node
-/// sets), a box clamp must hold some node.
+/// sets), a box clamp must hold some node. The modes are labelled about `axis` (0, 1, 2: x, y,
+/// z) through the volume centroid, or, with None, about the fitted axis of revolution.
 pub fn mesh_model(
     mut mesh: VolumeMesh,
     material: Material,
     clamp: &Clamp,
     hex8: Hex8Kind,
+    axis: Option<usize>,
 ) -> Result<ModalModel> {
     let mut box_clamped_nodes = None;
     let clamped_sets = match clamp {
@@ -202,10 +212,16 @@ pub fn mesh_model(
         count(29),
         crate::fem::measure::volume(&mesh),
     );
-    // Classified about the y-parallel axis (the wheel axis is y) through the volume centroid;
-    // for a body that is not a wheel the labels are only descriptive.
+    // Classified about an axis through the volume centroid: the fitted axis of revolution
+    // unless one was asked for; for a body that is not near-axisymmetric the labels are only
+    // descriptive.
     let centre = crate::fem::measure::centroid(&mesh);
-    volume_model(
+    let fit = fit_axis(
+        &mesh.nodes,
+        &crate::fem::measure::nodal_weights(&mesh),
+        centre,
+    );
+    let mut model = volume_model(
         mesh,
         material,
         clamped_sets,
@@ -213,7 +229,16 @@ pub fn mesh_model(
         summary,
         box_clamped_nodes,
         hex8,
-    )
+    )?;
+    match axis {
+        Some(k) => {
+            model.axis = [0.0; 3];
+            model.axis[k] = 1.0;
+        }
+        None => model.axis = fit.axis,
+    }
+    model.axis_fit = Some(fit);
+    Ok(model)
 }
 
 /// The common end of the volume-mesh builders: one material, the clamped sets, assembly.
@@ -242,6 +267,8 @@ pub fn volume_model(
         mesh: ModalMesh::Volume(mesh),
         assembled,
         centre,
+        axis: [0.0, 1.0, 0.0],
+        axis_fit: None,
         summary,
         box_clamped_nodes,
     })
