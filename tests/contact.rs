@@ -12,27 +12,11 @@ use squeal::mesh::{Mesh, P3};
 
 mod common;
 
-const STEEL: ElasticMaterial = ElasticMaterial {
-    density_kg_per_m3: 7850.0,
-    youngs_modulus_pa: 210e9,
-    poisson_ratio: 0.3,
-};
+use common::STEEL;
 const G: f64 = 9.81;
 
 fn bulk_modulus() -> f64 {
     STEEL.youngs_modulus_pa / (3.0 * (1.0 - 2.0 * STEEL.poisson_ratio))
-}
-
-/// A 0.6 m x 0.2 m x 20 mm plate (fixed) and a 50 x 50 x 20 mm block resting on it at x = 0.1 m.
-fn block_on_plate() -> (Mesh, Vec<usize>, Vec<[usize; 4]>, usize) {
-    common::block_on_plate(
-        [30, 10, 1],
-        [0.6, 0.2, 0.02],
-        [2, 2, 1],
-        [0.05, 0.05, 0.02],
-        [0.1, 0.075],
-        2,
-    )
 }
 
 struct Setup {
@@ -63,7 +47,7 @@ fn steel_pair(
 }
 
 fn setup(friction: FrictionLaw, load_n: f64) -> Setup {
-    let (mesh, slaves, faces, _) = block_on_plate();
+    let (mesh, slaves, faces, _) = common::sliding_block_on_plate();
     let pair = steel_pair(&mesh, slaves, faces, 0.1, friction);
     let materials: BTreeMap<u32, ElasticMaterial> = [(1, STEEL), (2, STEEL)].into_iter().collect();
     let mut model = Model::from_mesh(mesh, &materials, Formulation::default(), "test").unwrap();
@@ -251,7 +235,7 @@ fn pressed_block_carries_its_load() {
 
 #[test]
 fn bad_friction_and_penalty_are_rejected_with_the_field() {
-    let (mesh, slaves, faces, _) = block_on_plate();
+    let (mesh, slaves, faces, _) = common::sliding_block_on_plate();
     let bad = FrictionLaw::Falling {
         mu_static: 0.3,
         mu_dynamic: 0.5,
@@ -312,7 +296,7 @@ fn contact_preload() -> PreloadOptions {
 /// them. Then a further 0.5 mm (a tenth of the rebuild distance: no rebuild) finds them too.
 #[test]
 fn contact_search_follows_a_carried_master_surface() {
-    let (mesh, slaves, faces, offset) = block_on_plate();
+    let (mesh, slaves, faces, offset) = common::sliding_block_on_plate();
     let mut pair = ContactPair::new(
         "block_on_plate",
         &mesh,
@@ -361,7 +345,7 @@ fn contact_search_follows_a_carried_master_surface() {
 /// it the scale is refused naming the field; just below it is accepted.
 #[test]
 fn penalty_scale_above_what_the_step_carries_is_refused() {
-    let (mesh, slaves, faces, _) = block_on_plate();
+    let (mesh, slaves, faces, _) = common::sliding_block_on_plate();
     let pair_with = |scale: f64| {
         let mut pair = steel_pair(
             &mesh,
@@ -405,7 +389,7 @@ fn penalty_scale_above_what_the_step_carries_is_refused() {
 
 /// The block lifted by `lift_m` above the plate, as a contact pair (faces reversed if asked).
 fn lifted_pair(lift_m: f64, reversed: bool) -> ContactPair {
-    let (mut mesh, slaves, faces, offset) = block_on_plate();
+    let (mut mesh, slaves, faces, offset) = common::sliding_block_on_plate();
     for p in &mut mesh.nodes[offset..] {
         p[2] += lift_m;
     }

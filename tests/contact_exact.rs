@@ -19,25 +19,8 @@ use squeal::mesh::Mesh;
 
 mod common;
 
-const STEEL: ElasticMaterial = ElasticMaterial {
-    density_kg_per_m3: 7850.0,
-    youngs_modulus_pa: 210e9,
-    poisson_ratio: 0.3,
-};
+use common::STEEL;
 const G: f64 = 9.81;
-
-/// A 0.6 x 0.2 m x 20 mm plate and a 50 x 50 x 20 mm block resting on it at x = 0.1 m (the
-/// scene of tests/contact.rs).
-fn block_on_plate() -> (Mesh, Vec<usize>, Vec<[usize; 4]>, usize) {
-    common::block_on_plate(
-        [30, 10, 1],
-        [0.6, 0.2, 0.02],
-        [2, 2, 1],
-        [0.05, 0.05, 0.02],
-        [0.1, 0.075],
-        2,
-    )
-}
 
 struct Scene {
     solver: Solver,
@@ -56,7 +39,7 @@ fn scene(friction: FrictionLaw, plate_fixed: bool, push_n: f64) -> Scene {
 
 /// [`scene`] with the push's time curve.
 fn scene_with_push(friction: FrictionLaw, plate_fixed: bool, push_n: f64, curve: Curve) -> Scene {
-    let (mesh, slaves, faces, _) = block_on_plate();
+    let (mesh, slaves, faces, _) = common::sliding_block_on_plate();
     let bulk = STEEL.youngs_modulus_pa / (3.0 * (1.0 - 2.0 * STEEL.poisson_ratio));
     let mut pair = ContactPair::new("exact", &mesh, slaves, faces, 0.1, bulk, friction).unwrap();
     pair.enforcement = Enforcement::Exact;

@@ -516,6 +516,40 @@ fn the_constant_mu_curve_runs_by_the_fixed_criteria() {
     assert!((f - 6985.9).abs() < 0.1 && (x - 13.9).abs() < 0.5 && (rate - 10.0).abs() < 1.0);
 }
 
+/// Item 5 with the contact enforced exactly (data/runs/curve/curve-falling-10mrad-patch-exact,
+/// 300 ms), by the criteria written before it was judged (docs/convergence.md, "Exact
+/// contact"). What the physics gave, first judged 2026-11-29: no squeal; every harmonic rises
+/// x4 to x9 together, the most circumferential n = 4 (x9.3), the largest at the end radial
+/// n = 5 at 5572.0 Hz (no mode), 6.27e-2 m/s; the solve converged at every step. A change that
+/// moves these makes this test say so; they are not targets.
+#[test]
+fn the_exact_contact_run_by_the_fixed_criteria() {
+    use squeal::analysis::ring_growth::{ring_growth, GrowthCriteria};
+    let run = Path::new("data/runs/curve/curve-falling-10mrad-patch-exact");
+    let g = ring_growth(run, None, &GrowthCriteria::default(), None).unwrap();
+    assert!(!g.verdict.squeals, "{}", g.verdict.summary);
+    let lead = &g.harmonics[g.verdict.leading.unwrap()];
+    assert_eq!((lead.direction, lead.n), (RingDirection::Radial, 5));
+    assert!(lead.final_mode.is_none());
+    // To the table's digits.
+    assert!((lead.final_peak_hz.unwrap() - 5572.0).abs() < 0.1);
+    assert!((lead.final_level_m_per_s - 6.27e-2).abs() < 5e-5);
+    let most = g
+        .harmonics
+        .iter()
+        .max_by(|a, b| a.growth_factor.total_cmp(&b.growth_factor))
+        .unwrap();
+    assert_eq!(
+        (most.direction, most.n),
+        (RingDirection::Circumferential, 4)
+    );
+    assert!((most.growth_factor - 9.3).abs() < 0.05);
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("run.json")).unwrap()).unwrap();
+    assert_eq!(record["exact_contact"]["unconverged_steps"], 0);
+    assert_eq!(record["exact_contact"]["held_node_steps"], 0);
+}
+
 #[test]
 fn the_report_of_a_ring_run_opens_with_its_verdict_and_growth_wants_a_ring() {
     let out = std::env::temp_dir().join(format!("squeal_curve_report_{}", std::process::id()));

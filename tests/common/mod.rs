@@ -2,7 +2,28 @@
 
 // Each test file uses some of them.
 #![allow(dead_code)]
+use squeal::explicit::element::ElasticMaterial;
 use squeal::mesh::{cuboid, Mesh};
+
+/// Steel for the contact scenes.
+pub const STEEL: ElasticMaterial = ElasticMaterial {
+    density_kg_per_m3: 7850.0,
+    youngs_modulus_pa: 210e9,
+    poisson_ratio: 0.3,
+};
+
+/// The contact tests' scene of [`block_on_plate`]: a 0.6 x 0.2 m x 20 mm plate (30 x 10 x 1)
+/// and a 50 x 50 x 20 mm block (2 x 2 x 1, material 2) resting on it at x = 0.1 m.
+pub fn sliding_block_on_plate() -> (Mesh, Vec<usize>, Vec<[usize; 4]>, usize) {
+    block_on_plate(
+        [30, 10, 1],
+        [0.6, 0.2, 0.02],
+        [2, 2, 1],
+        [0.05, 0.05, 0.02],
+        [0.1, 0.075],
+        2,
+    )
+}
 
 /// A plate (`plate_divisions` elements over `plate_size_m`, material 1, its bottom at z = 0) with
 /// a block (`block_divisions` over `block_size_m`, material `block_material`) resting on its top
