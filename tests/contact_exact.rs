@@ -15,7 +15,6 @@ use squeal::contact::{ContactPair, Enforcement, FrictionLaw};
 use squeal::explicit::element::{ElasticMaterial, Formulation};
 use squeal::explicit::model::Model;
 use squeal::explicit::{Curve, Solver};
-use squeal::mesh::Mesh;
 
 mod common;
 
