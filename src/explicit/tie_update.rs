@@ -69,12 +69,7 @@ impl TieGather {
 
     /// `f_m += w f_s` for one force array, every master in parallel.
     pub(super) fn pass(&self, force: &mut [P3]) {
-        self.pass_into([force]);
-    }
-
-    /// `f_m += w f_s` for each of `forces`, in one sweep over the masters.
-    fn pass_into<const K: usize>(&self, forces: [&mut [P3]; K]) {
-        let ptrs = forces.map(|f| SharedMut(f.as_mut_ptr()));
+        let f_ptr = SharedMut(force.as_mut_ptr());
         self.masters
             .par_chunks(TIE_CHUNK)
             .enumerate()
@@ -82,20 +77,17 @@ impl TieGather {
                 for (j, &m) in masters.iter().enumerate() {
                     let i = c * TIE_CHUNK + j;
                     let entries = &self.entries[self.start[i]..self.start[i + 1]];
-                    for f_ptr in ptrs {
-                        // SAFETY: each master is written by one task; the slaves read are never
-                        // masters (Solver::new refuses chained ties), so nothing read is
-                        // written.
-                        unsafe {
-                            let mut f = *f_ptr.at(m);
-                            for &(s, w) in entries {
-                                let fs = *f_ptr.at(s);
-                                for d in 0..3 {
-                                    f[d] += w * fs[d];
-                                }
+                    // SAFETY: each master is written by one task; the slaves read are never
+                    // masters (Solver::new refuses chained ties), so nothing read is written.
+                    unsafe {
+                        let mut f = *f_ptr.at(m);
+                        for &(s, w) in entries {
+                            let fs = *f_ptr.at(s);
+                            for d in 0..3 {
+                                f[d] += w * fs[d];
                             }
-                            *f_ptr.at(m) = f;
                         }
+                        *f_ptr.at(m) = f;
                     }
                 }
             });
