@@ -311,8 +311,27 @@ pub fn create_dir_recording(dir: &Path) -> Result<Option<PathBuf>> {
         top = Some(p.to_path_buf());
         at = p.parent();
     }
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    std::fs::create_dir_all(dir).map_err(|e| folder_error(dir, e))?;
     Ok(top)
+}
+
+/// The error of a folder `dir` that could not be made: when a file stands where one of its
+/// folders should be (the OS says "exists" or "not a directory"), that file is named.
+fn folder_error(dir: &Path, e: std::io::Error) -> Error {
+    use std::io::ErrorKind as K;
+    if matches!(e.kind(), K::AlreadyExists | K::NotADirectory) {
+        let mut at = Some(dir);
+        while let Some(p) = at.filter(|p| !p.as_os_str().is_empty()) {
+            if p.is_file() {
+                return Error::io(
+                    p,
+                    std::io::Error::other("is a file, where a folder is needed"),
+                );
+            }
+            at = p.parent();
+        }
+    }
+    Error::io(dir, e)
 }
 
 /// Removes the empty folders from `dir` up to `top` (both included), as created by

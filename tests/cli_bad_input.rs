@@ -106,6 +106,12 @@ fn fixtures() -> PathBuf {
     write_case("enforce.json", &|c| {
         c["contact_enforcement"] = "lagrange".into()
     });
+    // Item 13: a relaxation preload cut off before the wheel is down is blamed on its step
+    // limit, not on the initial gap.
+    write_case("preload5.json", &|c| {
+        c["preload"]["method"] = "dynamic_relaxation".into();
+        c["preload"]["max_steps"] = 5.into();
+    });
     write_case("exact_mr.json", &|c| {
         c["contact_enforcement"] = "exact".into();
         c["time_stepping"] = serde_json::json!({"multi_rate": "on"});
@@ -159,6 +165,8 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let demo = data.join("models/demo.json").display().to_string();
     let case = data.join("cases/case3-ci.json").display().to_string();
     let s = fx.join("s.csv").display().to_string();
+    // Item 13: an output folder under a file (ENOTDIR, os error 20, said in words).
+    let under_file = format!("{s}/o");
     let header = fx.join("header.csv").display().to_string();
     let empty = fx.join("empty.csv").display().to_string();
     let bad_json = fx.join("bad.json").display().to_string();
@@ -175,6 +183,7 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let slip = fx.join("slip.json").display().to_string();
     let enforce = fx.join("enforce.json").display().to_string();
     let exact_mr = fx.join("exact_mr.json").display().to_string();
+    let preload5 = fx.join("preload5.json").display().to_string();
     let frkey = fx.join("frkey.json").display().to_string();
     let nopressure = fx.join("nopressure.json").display().to_string();
     let mu5 = fx.join("mu5.json").display().to_string();
@@ -205,6 +214,11 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let rows: Vec<(Vec<&str>, i32, Vec<&str>)> = vec![
         // psd
         // A device instead of a file is read without end: refused before reading (item 10).
+        (
+            vec!["psd", &s, "--column", "x_m", "--out", &under_file],
+            1,
+            vec!["s.csv", "is a file, where a folder is needed"],
+        ),
         (
             vec!["psd", "/dev/zero", "--column", "x_m", "--out", "o"],
             2,
@@ -1165,6 +1179,16 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["exact_mr.json", "time_stepping.multi_rate", "exact contact"],
         ),
         (
+            vec!["simulate", "--case", &preload5, "--out", "o"],
+            2,
+            vec![
+                "preload5.json",
+                "preload.max_steps",
+                "step limit",
+                "2..=100000000",
+            ],
+        ),
+        (
             vec!["simulate", "--case", &aoa60, "--out", "o"],
             2,
             vec!["aoa60.json", "curving.angle_of_attack_mrad", "[-50, 50]"],
@@ -1258,6 +1282,12 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         }
         if err.contains("panicked") {
             problems.push("panicked".into());
+        }
+        // Issue 53, item 13: no raw OS error numbers, no hidden stage folder's name.
+        for raw in ["os error", ".partial-"] {
+            if err.contains(raw) {
+                problems.push(format!("message shows `{raw}`"));
+            }
         }
         if !problems.is_empty() {
             failures.push(format!(

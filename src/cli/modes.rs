@@ -281,7 +281,7 @@ fn read_wheel(wheel: &std::path::Path, element_size_mm: Option<f64>) -> Result<W
         Error::Io { path, source } => Error::input(
             path,
             "--wheel",
-            format!("cannot read the wheel file ({source}); expected a JSON file like data/wheels/ns_intercity_920.json"),
+            format!("cannot read the wheel file ({}); expected a JSON file like data/wheels/ns_intercity_920.json", squeal::error::io_words(&source)),
         ),
         other => other,
     })?;
@@ -334,7 +334,10 @@ fn read_mesh(args: &ModesArgs) -> Result<squeal::mesh::volume::VolumeMesh> {
         Error::Io { path, source } => Error::input(
             path,
             "--mesh",
-            format!("cannot read the mesh file ({source})"),
+            format!(
+                "cannot read the mesh file ({})",
+                squeal::error::io_words(&source)
+            ),
         ),
         other => other,
     })?;

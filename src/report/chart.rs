@@ -320,10 +320,7 @@ fn create_parents(paths: &[Option<&Path>]) -> Result<()> {
 }
 
 fn drawing_error(path: &Path, message: String) -> Error {
-    Error::Io {
-        path: path.display().to_string(),
-        source: std::io::Error::other(message),
-    }
+    Error::io(path, std::io::Error::other(message))
 }
 
 /// Axis tick text on an axis spanning `span`: a tick within 1e-9 of the span from zero is
@@ -522,20 +519,12 @@ pub fn write_heatmap(map: &Heatmap, png: Option<&Path>, svg: Option<&Path>) -> R
     let size = map.size_px.unwrap_or((900, 560));
     create_parents(&[png, svg])?;
     if let Some(path) = png {
-        draw_heatmap(BitMapBackend::new(path, size).into_drawing_area(), map).map_err(|e| {
-            Error::Io {
-                path: path.display().to_string(),
-                source: std::io::Error::other(e),
-            }
-        })?;
+        draw_heatmap(BitMapBackend::new(path, size).into_drawing_area(), map)
+            .map_err(|e| Error::io(path, std::io::Error::other(e)))?;
     }
     if let Some(path) = svg {
-        draw_heatmap(SVGBackend::new(path, size).into_drawing_area(), map).map_err(|e| {
-            Error::Io {
-                path: path.display().to_string(),
-                source: std::io::Error::other(e),
-            }
-        })?;
+        draw_heatmap(SVGBackend::new(path, size).into_drawing_area(), map)
+            .map_err(|e| Error::io(path, std::io::Error::other(e)))?;
     }
     Ok(())
 }

@@ -398,12 +398,7 @@ fn run_preload(
     m.contact.pair.resume_friction(friction);
     outcome?;
     if !m.contact.pair.state.iter().any(|s| s.active) {
-        return Err(Error::input(
-            source,
-            "model_scenario: wheel_position.initial_gap_mm",
-            "the wheel is not in contact with the rail after the preload: the initial gap is \
-             too large or the contact surfaces do not face each other",
-        ));
+        return Err(no_contact_after_preload(preload.as_ref(), case, source));
     }
     if opts.progress {
         if let Some(r) = &static_preload {
@@ -414,6 +409,35 @@ fn run_preload(
         }
     }
     Ok((preload, static_preload))
+}
+
+/// The error when the wheel is off the rail after the preload. The initial clearance was
+/// checked before it (`check_contact_before_preload`), so a relaxation that stopped at its step
+/// limit is the likelier cause: the wheel had not come down yet, and the field to change is
+/// `preload.max_steps`, not the gap.
+fn no_contact_after_preload(
+    preload: Option<&PreloadReport>,
+    case: &RollingCase,
+    source: &str,
+) -> Error {
+    match preload {
+        Some(r) if !r.converged => Error::input(
+            source,
+            "preload.max_steps",
+            format!(
+                "the dynamic-relaxation preload stopped at its step limit ({} steps, relative \
+                 residual {:.2e}) before the wheel reached the rail: raise preload.max_steps \
+                 (allowed range 2..=100000000, now {}) or use preload.method implicit",
+                r.steps, r.relative_residual, case.preload.max_steps
+            ),
+        ),
+        _ => Error::input(
+            source,
+            "model_scenario: wheel_position.initial_gap_mm",
+            "the wheel is not in contact with the rail after a converged preload: the initial \
+             gap is too large or the contact surfaces do not face each other",
+        ),
+    }
 }
 
 /// The rolling start on the preloaded model: the wheelset's rolling velocity about the loaded

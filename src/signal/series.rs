@@ -34,8 +34,13 @@ impl TimeSeries {
     pub fn columns_from_csv(path: &Path, columns: &[&str]) -> Result<Vec<Self>> {
         crate::table::check_table_file(path)?;
         let source = path.display().to_string();
-        let file = std::fs::File::open(path)
-            .map_err(|e| Error::input(source.clone(), "file", format!("cannot open: {e}")))?;
+        let file = std::fs::File::open(path).map_err(|e| {
+            Error::input(
+                source.clone(),
+                "file",
+                format!("cannot open: {}", crate::error::io_words(&e)),
+            )
+        })?;
         let mut reader = csv::ReaderBuilder::new()
             .trim(csv::Trim::All)
             .from_reader(file);
