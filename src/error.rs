@@ -61,6 +61,26 @@ impl Error {
         }
     }
 
+    /// A failed read of an input file the user named: a path that names no file, or a
+    /// folder, is a mistake in the input (exit 2); any other failure is I/O (exit 1), as the
+    /// bad-input table (tests/cli_bad_input.rs) holds for every command.
+    pub fn reading(path: &Path, source: std::io::Error) -> Self {
+        use std::io::ErrorKind as K;
+        match source.kind() {
+            K::NotFound => Error::input(
+                user_path(path),
+                "file",
+                "does not exist: expected an existing input file (check the path)",
+            ),
+            K::IsADirectory => Error::input(
+                user_path(path),
+                "file",
+                "is a folder: expected an input file",
+            ),
+            _ => Error::io(path, source),
+        }
+    }
+
     /// Process exit code: 2 for bad input (as the issues require), 130 for an interrupted run,
     /// 1 otherwise.
     pub fn exit_code(&self) -> i32 {

@@ -94,7 +94,7 @@ impl Table {
     pub fn read_numeric(path: &Path) -> Result<Table> {
         check_table_file(path)?;
         let name = path.display().to_string();
-        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let file = std::fs::File::open(path).map_err(|e| Error::reading(path, e))?;
         let mut reader = csv::ReaderBuilder::new()
             .trim(csv::Trim::All)
             .from_reader(file);

@@ -744,7 +744,7 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
         ),
         (
             vec!["ema", "--uff", &missing, "--out", "o"],
-            1,
+            2,
             vec!["missing.json"],
         ),
         // kalker

@@ -151,7 +151,7 @@ pub fn resolve_column(path: &Path, signal: &str) -> Result<String> {
 
 /// The column names of a CSV file's header line.
 pub fn read_csv_headers(path: &Path) -> Result<Vec<String>> {
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let file = std::fs::File::open(path).map_err(|e| Error::reading(path, e))?;
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .from_reader(file);

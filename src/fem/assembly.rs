@@ -428,7 +428,7 @@ pub fn write_matrix_market(a: &SparseColMat<usize, f64>, path: &std::path::Path)
 /// triangle; duplicates are summed. Errors name the file and line.
 pub fn read_matrix_market(path: &std::path::Path) -> Result<SparseColMat<usize, f64>> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = std::fs::read_to_string(path).map_err(|e| Error::reading(path, e))?;
     let bad = |line: usize, msg: String| Error::input(&name, format!("line {line}"), msg);
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
     let (_, header) = lines

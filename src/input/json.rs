@@ -49,7 +49,7 @@ pub fn read_text(path: &Path) -> Result<String> {
                 "does not exist: expected an existing JSON file (check the path)",
             )
         } else {
-            Error::io(path, e)
+            Error::reading(path, e)
         }
     })
 }

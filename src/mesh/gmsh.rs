@@ -192,7 +192,7 @@ impl<'a> Lines<'a> {
 
 /// Read an MSH 4.1 ASCII file.
 pub fn read(path: &Path) -> Result<MshContents> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = std::fs::read_to_string(path).map_err(|e| Error::reading(path, e))?;
     let name = path.display().to_string();
     let mut lines = Lines {
         iter: text.lines().enumerate(),

@@ -32,7 +32,7 @@ pub fn write_collection(path: &Path, entries: &[(f64, String)]) -> Result<()> {
 
 /// Reads the `(time_s, file)` entries of a collection written by [`write_collection`].
 pub fn read_collection(path: &Path) -> Result<Vec<(f64, String)>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = std::fs::read_to_string(path).map_err(|e| Error::reading(path, e))?;
     let source = path.display().to_string();
     let attribute = |line: &str, name: &str| -> Option<String> {
         let start = line.find(&format!("{name}=\""))? + name.len() + 2;

@@ -83,7 +83,7 @@ pub fn read(path: &Path) -> Result<VtuContents> {
             "line 3",
             "the file is not text (BINARY legacy VTK is not supported: save as ASCII)",
         ),
-        _ => Error::io(path, e),
+        _ => Error::reading(path, e),
     })?;
     parse(&name, &text)
 }

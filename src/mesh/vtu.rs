@@ -309,7 +309,7 @@ fn decode_array(path: &str, attrs: &str, body: &str) -> Result<Vec<f64>> {
 /// arrays with a UInt64 header; appended data is not supported).
 pub fn read(path: &Path) -> Result<VtuContents> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = std::fs::read_to_string(path).map_err(|e| Error::reading(path, e))?;
     let mut out = VtuContents::default();
     let mut section = "";
     let mut pos = 0;

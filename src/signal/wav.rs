@@ -114,7 +114,7 @@ pub struct Pcm16Wav {
 /// Reads a canonical mono 16-bit PCM WAV file (as written by [`write_wav`]); anything else
 /// is an input error naming what differs.
 pub fn read_pcm16_wav(path: &Path) -> Result<Pcm16Wav> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = std::fs::read(path).map_err(|e| Error::reading(path, e))?;
     let source = path.display().to_string();
     let bad = |field: &str, message: String| Error::input(source.clone(), field, message);
     if bytes.len() < 44

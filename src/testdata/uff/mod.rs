@@ -64,7 +64,7 @@ impl UffFile {
 /// Reads a universal file; errors name the file, the dataset (its number and line) and the
 /// record and field at fault.
 pub fn read_uff(path: &Path) -> Result<UffFile> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = std::fs::read(path).map_err(|e| Error::reading(path, e))?;
     parse_uff(&bytes, &path.display().to_string())
 }
 
