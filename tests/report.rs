@@ -118,7 +118,10 @@ fn report_has_every_section_and_file() {
     // The verdict comes first: these runs have no rim ring, and it says so (issue 57); then
     // the summary, which says whether the squeal modes are among the peaks.
     assert_eq!(summary.sections[0], "Does the wheel squeal?");
-    assert!(md.contains("no verdict: the run has no rim ring"), "{md}");
+    assert!(
+        md.contains("**cannot be judged**: the run has no rim ring"),
+        "{md}"
+    );
     assert_eq!(summary.sections[1], "Summary");
     assert!(md.contains("(0,3) / (0,4) among them"), "{md}");
     assert!(md.contains("yes / "), "the (0,3) run's verdict: {md}");
@@ -183,6 +186,61 @@ fn page_loads_as_a_reader_sees_it(out: &Path, html: &str) {
         }
         None => println!("no headless Chromium here: the page was checked as files only"),
     }
+}
+
+/// Issue 53, item 17: a run without a ring whose (0,3) wavelet ridge grows while (0,3) stays
+/// out of the dominant lateral peaks gets a first line that says so in words and why the two
+/// do not contradict each other. The rim point less the rim mean carries a 1050 Hz (0,3) tone
+/// growing as exp(100 t) from 1e-3 m/s; the lateral velocity (standing for the rim point's
+/// spectrum after the hub's motion has rung the n = 0 modes) holds 300, 1700 and 2400 Hz tones.
+#[test]
+fn a_growing_ridge_outside_the_dominant_peaks_is_explained_in_the_first_lines() {
+    let root: PathBuf =
+        std::env::temp_dir().join(format!("squeal-report-ridge-{}", std::process::id()));
+    let run = root.join("ridge");
+    write_run(&run, 1.0);
+    let fs = 20_000.0;
+    let growth_per_s = 100.0;
+    let mut csv = String::from(
+        "time_s,lateral_velocity_m_per_s,rim_mean_lateral_velocity_m_per_s,\
+         rim_point_minus_mean_lateral_velocity_m_per_s\n",
+    );
+    for i in 0..2_000 {
+        let t = i as f64 / fs;
+        let n3 = 1e-3 * (growth_per_s * t).exp() * (2.0 * PI * 1050.0 * t).sin();
+        let n0 = (2.0 * PI * 300.0 * t).sin();
+        let lateral =
+            n0 + 0.8 * (2.0 * PI * 1700.0 * t).sin() + 0.6 * (2.0 * PI * 2400.0 * t).sin();
+        csv.push_str(&format!("{t:.8},{lateral:.10},{n0:.10},{n3:.10}\n"));
+    }
+    std::fs::write(run.join("histories.csv"), csv).unwrap();
+    let out = root.join("out");
+    build_report(&[run], &out, "ridge", &Default::default()).expect("report");
+    let md = std::fs::read_to_string(out.join("index.md")).unwrap();
+    let line = md
+        .lines()
+        .find(|l| l.starts_with("- `ridge`:"))
+        .expect("verdict line");
+    assert!(line.contains("**cannot be judged**"), "{line}");
+    assert!(
+        line.contains("neither (0,3) nor (0,4) is among the 3 dominant lateral peaks"),
+        "{line}"
+    );
+    assert!(line.contains("do not contradict each other"), "{line}");
+    // The fastest window's rate: the Morlet transform of exp(g t) sin(w t) is that of the
+    // sine scaled by exp(g t) (times a constant), so every window outside the cone of influence
+    // gives g; 10 % allows for the 4 ms windows' least-squares fit on the sampled ridge.
+    let rate: f64 = line
+        .split("(0,3) 1050 Hz at ")
+        .nth(1)
+        .and_then(|r| r.split(" /s").next())
+        .and_then(|r| r.trim_start_matches('+').parse().ok())
+        .unwrap_or_else(|| panic!("no rate in {line}"));
+    assert!(
+        (rate - growth_per_s).abs() <= 0.1 * growth_per_s,
+        "{rate} /s against {growth_per_s} /s: {line}"
+    );
+    let _ = std::fs::remove_dir_all(&root);
 }
 
 #[test]

@@ -25,10 +25,12 @@ pub(super) fn verdict(page: &mut Page, ctx: &Context) -> Result<()> {
     for r in ctx.runs {
         let line = match &r.ring {
             Some(Ok(g)) => format!("**{}**", g.verdict.summary),
-            Some(Err(why)) => format!("no verdict: {why}"),
-            None => "no verdict: the run has no rim ring (`output.ring` in its case file, \
-                     docs/curving.md); the older rim bands are in the section \"Squeal\" below"
-                .to_string(),
+            Some(Err(why)) => format!("**cannot be judged**: {why}. {}", older_measures(r, ctx)),
+            None => format!(
+                "**cannot be judged**: the run has no rim ring (`output.ring` in its case file, \
+                 docs/curving.md), so its modes cannot be told apart by nodal diameter. {}",
+                older_measures(r, ctx)
+            ),
         };
         let _ = writeln!(page.md, "- `{}`: {line}", r.name);
     }
@@ -39,6 +41,90 @@ pub(super) fn verdict(page: &mut Page, ctx: &Context) -> Result<()> {
          of its n (criteria fixed before the curve runs, docs/curving.md).\n"
     );
     Ok(())
+}
+
+/// For a run the squeal criterion cannot judge: what the older measures say, in words, and
+/// why they do not contradict each other (issue 53, item 17): whether (0,3) and (0,4) are
+/// among the dominant lateral peaks (the Summary), and the fastest growth of their wavelet
+/// ridges (the section "Squeal modes over time"). A ridge can grow over one 4 ms window from a
+/// level far below the dominant peaks; a squeal is a mode that grows until it dominates and
+/// settles, which a short record cannot show.
+fn older_measures(r: &Run, ctx: &Context) -> String {
+    let lateral = r.analyses.iter().find(|a| a.column.starts_with("lateral"));
+    let Some(lateral) = lateral else {
+        return "The run has no lateral peak analysis (no modes.json): nothing more to say."
+            .to_string();
+    };
+    let dominant: Vec<&str> = ["(0,3)", "(0,4)"]
+        .into_iter()
+        .filter(|label| {
+            lateral
+                .identifications
+                .iter()
+                .any(|p| p.mode.as_ref().is_some_and(|m| m.label() == *label))
+        })
+        .collect();
+    let among = match dominant.as_slice() {
+        [] => format!(
+            "neither (0,3) nor (0,4) is among the {} dominant lateral peaks (Summary)",
+            lateral.identifications.len()
+        ),
+        [label] => format!(
+            "{label} is among the {} dominant lateral peaks (Summary)",
+            lateral.identifications.len()
+        ),
+        labels => format!(
+            "{} are among the {} dominant lateral peaks (Summary)",
+            labels.join(" and "),
+            lateral.identifications.len()
+        ),
+    };
+    // Each n >= 1 band's fastest window: (band, rate, from, to).
+    let bands = super::sections::squeal_band_growths(r, ctx.report_options).unwrap_or_default();
+    let mut fastest: Vec<(String, f64, f64, f64)> = Vec::new();
+    for band in bands.iter().filter(|b| b.mode.1 > 0) {
+        let Ok(g) = &band.outcome else { continue };
+        for b in &g.bands {
+            let best = b
+                .windows
+                .iter()
+                .filter_map(|w| w.growth_rate_per_s.map(|rate| (rate, w.from_s, w.to_s)))
+                .max_by(|x, y| x.0.total_cmp(&y.0));
+            if let Some((rate, from_s, to_s)) = best {
+                fastest.push((b.band.name.clone(), rate, from_s, to_s));
+            }
+        }
+    }
+    let list = fastest
+        .iter()
+        .map(|(name, rate, from_s, to_s)| {
+            format!(
+                "{name} at {rate:+.0} /s over {:.1}-{:.1} ms",
+                from_s * 1e3,
+                to_s * 1e3
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let ridges = if fastest.iter().any(|f| f.1 > 0.0) {
+        format!(
+            "the wavelet ridges of their bands grow fastest: {list} (section \"Squeal modes over \
+             time\"). The two do not contradict each other: a ridge's growth over one 4 ms window \
+             says that a band rises, from however low a level; a squeal is a mode that grows \
+             until it dominates and settles into a limit cycle, which needs a record of 100 ms or \
+             more after the creep force has built up (a rim ring and `squeal growth --per-n` \
+             judge it)"
+        )
+    } else if !fastest.is_empty() {
+        format!("no wavelet ridge of their bands grows (fastest: {list})")
+    } else if bands.iter().any(|b| b.mode.1 > 0) {
+        "their wavelet ridges have no growth rate (too short a record)".to_string()
+    } else {
+        "the run does not record the rim point less the rim mean, so their wavelet ridges are \
+         not followed"
+            .to_string()
+    };
+    format!("By the older measures, {among}; {ridges}.")
 }
 
 /// The nodal-diameter section of every run with a ring.

@@ -683,6 +683,72 @@ Stability analysis `{}` (operating point: {}; eigenvalues up to {:.0} Hz).
     Ok(())
 }
 
+/// One squeal band's wavelet-ridge analysis of a run (the section "Squeal modes over time").
+pub(super) struct SquealBand {
+    /// Its place in [`SQUEAL_BANDS`] (the chart colour).
+    pub(super) index: usize,
+    /// The mode (m, n) it follows.
+    pub(super) mode: (u32, u32),
+    /// The ridges and their growth rates, or why there are none (a record shorter than one
+    /// growth window after its start).
+    pub(super) outcome: std::result::Result<crate::analysis::growth::GrowthAnalysis, String>,
+}
+
+/// The wavelet ridges of the squeal bands (0,0), (0,3), (0,4) of a run with modes, from the
+/// lateral-motion onset (or `--from-ms`), per 4 ms window; bands whose column or mode the run
+/// lacks are left out.
+pub(super) fn squeal_band_growths(
+    r: &Run,
+    report_options: &ReportOptions,
+) -> Result<Vec<SquealBand>> {
+    let Some(modes) = &r.modes else {
+        return Ok(Vec::new());
+    };
+    let growth_options = crate::analysis::growth::GrowthOptions::default();
+    let mut out = Vec::new();
+    for (index, &(m, n, column)) in SQUEAL_BANDS.iter().enumerate() {
+        if r.histories.column(column).is_none() {
+            continue;
+        }
+        let Ok(bands) =
+            crate::analysis::growth::bands_for_modes(modes, &[(m, n)], growth_options.half_width)
+        else {
+            continue;
+        };
+        let series = crate::analysis::growth::read_column(&r.dir, column)?;
+        let from_s = report_options
+            .from_s
+            .or_else(|| crate::analysis::lateral_onset_s(&r.dir).ok().flatten())
+            .unwrap_or(series.start_time_s);
+        // A record that ends within one growth window of its start has no growth rate to
+        // give: the section says so instead of failing the whole report.
+        let end_s =
+            series.start_time_s + (series.values.len() as f64 - 1.0) / series.sample_rate_hz;
+        let outcome = if end_s - from_s < growth_options.window_s {
+            Err(format!(
+                "({m},{n}): the record from {:.2} ms to its end ({:.2} ms) is shorter than the \
+                 {:.0} ms growth window: no growth rate.",
+                from_s * 1e3,
+                end_s * 1e3,
+                growth_options.window_s * 1e3
+            ))
+        } else {
+            Ok(crate::analysis::growth::band_growth(
+                &series,
+                &bands,
+                from_s,
+                growth_options.window_s,
+            )?)
+        };
+        out.push(SquealBand {
+            index,
+            mode: (m, n),
+            outcome,
+        });
+    }
+    Ok(out)
+}
+
 /// Do the zero-nodal-circle modes grow: rms of the rim against the hub, and wavelet ridges of the squeal modes' bands with their growth rates.
 ///
 /// Kept in one piece: one report section, written top to bottom as it reads.
@@ -693,49 +759,19 @@ pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
         report_options,
     } = *ctx;
     // ---- Squeal: do the zero-nodal-circle modes grow?
-    let growth_options = crate::analysis::growth::GrowthOptions::default();
     let mut squeal_md = String::new();
     for r in runs {
-        let Some(modes) = &r.modes else { continue };
         let mut series_out = Vec::new();
         let mut tables = String::new();
-        for (k, &(m, n, column)) in SQUEAL_BANDS.iter().enumerate() {
-            if r.histories.column(column).is_none() {
-                continue;
-            }
-            let Ok(bands) = crate::analysis::growth::bands_for_modes(
-                modes,
-                &[(m, n)],
-                growth_options.half_width,
-            ) else {
-                continue;
+        for band in squeal_band_growths(r, report_options)? {
+            let (k, (_, n)) = (band.index, band.mode);
+            let g = match band.outcome {
+                Ok(g) => g,
+                Err(why) => {
+                    let _ = writeln!(tables, "{why}\n");
+                    continue;
+                }
             };
-            let series = crate::analysis::growth::read_column(&r.dir, column)?;
-            let from_s = report_options
-                .from_s
-                .or_else(|| crate::analysis::lateral_onset_s(&r.dir).ok().flatten())
-                .unwrap_or(series.start_time_s);
-            // A record that ends within one growth window of its start has no growth rate to
-            // give: the section says so instead of failing the whole report.
-            let end_s =
-                series.start_time_s + (series.values.len() as f64 - 1.0) / series.sample_rate_hz;
-            if end_s - from_s < growth_options.window_s {
-                let _ = writeln!(
-                    tables,
-                    "({m},{n}): the record from {:.2} ms to its end ({:.2} ms) is shorter than \
-                     the {:.0} ms growth window: no growth rate.\n",
-                    from_s * 1e3,
-                    end_s * 1e3,
-                    growth_options.window_s * 1e3
-                );
-                continue;
-            }
-            let g = crate::analysis::growth::band_growth(
-                &series,
-                &bands,
-                from_s,
-                growth_options.window_s,
-            )?;
             tables.push_str(&crate::analysis::growth::to_markdown(&g));
             tables.push('\n');
             for b in &g.bands {
@@ -825,11 +861,14 @@ pub(super) fn squeal(page: &mut Page, ctx: &Context) -> Result<()> {
                 f64::NAN
             }
         };
+        // The window's end: the report's --to-ms, else the record's last sample.
+        let end_s = to_s.min(t.last().copied().unwrap_or(from_s));
         let _ = writeln!(
             rms_md,
-            "| {} | {:.1}- ms | {:.4} | {:.4} | {:.4} | {:.4} |",
+            "| {} | {:.1}-{:.1} ms | {:.4} | {:.4} | {:.4} | {:.4} |",
             r.name,
             from_s * 1e3,
+            end_s * 1e3,
             rms(values[0]),
             rms(values[1]),
             rms(values[2]),
