@@ -125,13 +125,23 @@ fn report_has_every_section_and_file() {
     assert_eq!(summary.sections[1], "Summary");
     assert!(md.contains("(0,3) / (0,4) among them"), "{md}");
     assert!(md.contains("yes / "), "the (0,3) run's verdict: {md}");
+    // Issue 53, item 18: the markdown's bold and code (run names are in backticks) are
+    // rendered, not shown as literal `**` and backticks.
+    assert!(md.contains("**") && md.contains('`'), "{md}");
+    let text = text_outside_tags(&html);
+    assert!(!text.contains("**"), "literal ** in the page: {text}");
+    assert!(!text.contains('`'), "literal backtick in the page: {text}");
+    assert!(html.contains("<strong>cannot be judged</strong>"), "{html}");
+    assert!(html.contains("<code>case1</code>"), "{html}");
+    // The metadata table: one row per value, nested keys joined with dots.
+    assert!(md.contains("| wall_time_s | 1.5 |"), "{md}");
     page_loads_as_a_reader_sees_it(&out, &html);
     let _ = std::fs::remove_dir_all(&root);
 }
 
 /// The HTML page as a reader's browser takes it: every image it shows exists and is a PNG,
 /// every table-of-contents link leads to a section; and, where a headless Chromium is
-/// installed, the page renders to a screenshot (skipped with a note where it is not).
+/// installed, the page as the browser shows it ([`in_a_browser`]).
 fn page_loads_as_a_reader_sees_it(out: &Path, html: &str) {
     let attribute = |tag: &str, name: &str| -> Vec<String> {
         html.split(tag)
@@ -162,30 +172,155 @@ fn page_loads_as_a_reader_sees_it(out: &Path, html: &str) {
         );
     }
     assert!(html.contains("<style>") && html.contains("nav.toc"));
+    in_a_browser(out, images.len());
+}
+
+/// The page's text outside its tags (the stylesheet left out), as a reader sees it.
+fn text_outside_tags(html: &str) -> String {
+    let body = html.split("</style>").last().unwrap_or(html);
+    let mut text = String::new();
+    let mut in_tag = false;
+    for c in body.chars() {
+        match c {
+            '<' => in_tag = true,
+            '>' => in_tag = false,
+            c if !in_tag => text.push(c),
+            _ => {}
+        }
+    }
+    text
+}
+
+/// What a page reports of itself once loaded: its images (how many, which did not load), its
+/// visible text (literal markdown left in it) and its width (anything running off the page).
+const PAGE_CHECK_SCRIPT: &str = r#"<script>
+window.addEventListener('load', function () {
+  var images = Array.from(document.images);
+  var text = document.body.innerText;
+  var root = document.documentElement;
+  var report = {
+    images: images.length,
+    broken: images.filter(function (i) { return !(i.complete && i.naturalWidth > 0); })
+      .map(function (i) { return i.getAttribute('src'); }),
+    markdown: ['*' + '*', String.fromCharCode(96), '!' + '[', ']' + '(']
+      .filter(function (m) { return text.indexOf(m) >= 0; }),
+    width: root.clientWidth,
+    scroll_width: root.scrollWidth
+  };
+  var pre = document.createElement('pre');
+  pre.id = 'page-check';
+  pre.textContent = JSON.stringify(report);
+  document.body.appendChild(pre);
+});
+</script>"#;
+
+/// The page in a real headless browser (Chromium) 1400 px wide, where one is installed: every
+/// image loads (`images` of them), the visible text holds no literal markdown (`**`, backtick,
+/// `![`, `](`), nothing is wider than the window, and a screenshot 1400 px wide is written
+/// (`screenshot.png` in the report folder). Skipped with a note where no Chromium is found
+/// (`chromium`, `chromium-browser` or `google-chrome` on PATH; `.ci/run` installs one where it
+/// can) or where the environment sets SQUEAL_NO_BROWSER.
+fn in_a_browser(out: &Path, images: usize) {
+    if std::env::var_os("SQUEAL_NO_BROWSER").is_some() {
+        println!("SQUEAL_NO_BROWSER is set: the page was checked as files only, not in a browser");
+        return;
+    }
     let browser = ["chromium", "chromium-browser", "google-chrome"]
         .into_iter()
         .find(|b| {
             std::process::Command::new(b)
                 .arg("--version")
+                .stderr(std::process::Stdio::null())
                 .output()
                 .is_ok_and(|o| o.status.success())
         });
-    match browser {
-        Some(b) => {
-            let shot = out.join("screenshot.png");
-            let status = std::process::Command::new(b)
-                .args(["--headless", "--disable-gpu", "--no-sandbox"])
-                .arg(format!("--screenshot={}", shot.display()))
-                .arg(format!("file://{}", out.join("index.html").display()))
-                .status()
-                .expect("browser");
-            assert!(
-                status.success() && shot.exists(),
-                "{b} did not render the page"
-            );
+    let Some(browser) = browser else {
+        println!("no headless Chromium here: the page was checked as files only");
+        return;
+    };
+    let page = std::fs::read_to_string(out.join("index.html")).expect("page");
+    let checked = out.join("index-check.html");
+    std::fs::write(
+        &checked,
+        page.replace("</body>", &format!("{PAGE_CHECK_SCRIPT}</body>")),
+    )
+    .expect("write");
+    let common = |extra: &str, url: &Path| -> Vec<String> {
+        vec![
+            "--headless".into(),
+            "--disable-gpu".into(),
+            "--no-sandbox".into(),
+            "--hide-scrollbars".into(),
+            "--window-size=1400,1800".into(),
+            format!("--user-data-dir={}", out.join("browser-profile").display()),
+            extra.into(),
+            format!("file://{}", url.display()),
+        ]
+    };
+    let dom = out.join("dom.html");
+    run_browser(browser, &common("--dump-dom", &checked), &dom);
+    let dumped = std::fs::read_to_string(&dom).unwrap_or_default();
+    let report = dumped
+        .split("<pre id=\"page-check\">")
+        .nth(1)
+        .and_then(|r| r.split("</pre>").next())
+        .unwrap_or_else(|| panic!("{browser} did not run the page's check: {dumped}"))
+        .replace("&lt;", "<")
+        .replace("&gt;", ">")
+        .replace("&amp;", "&");
+    let report: serde_json::Value = serde_json::from_str(&report).expect("check's JSON");
+    println!("{browser}, 1400 px wide: {report}");
+    assert_eq!(report["images"], images, "{report}");
+    assert_eq!(
+        report["broken"],
+        serde_json::json!([]),
+        "images not loaded: {report}"
+    );
+    assert_eq!(
+        report["markdown"],
+        serde_json::json!([]),
+        "literal markdown: {report}"
+    );
+    assert!(
+        report["scroll_width"].as_u64().unwrap_or(u64::MAX)
+            <= report["width"].as_u64().unwrap_or(0),
+        "the page is wider than the window: {report}"
+    );
+    let shot = out.join("screenshot.png");
+    run_browser(
+        browser,
+        &common(
+            &format!("--screenshot={}", shot.display()),
+            &out.join("index.html"),
+        ),
+        &out.join("screenshot.log"),
+    );
+    let png = std::fs::read(&shot).unwrap_or_default();
+    assert!(png.starts_with(b"\x89PNG"), "{browser} wrote no screenshot");
+    let width = u32::from_be_bytes([png[16], png[17], png[18], png[19]]);
+    assert_eq!(width, 1400, "screenshot {} px wide", width);
+}
+
+/// Runs the browser with `args`, its output into `stdout`, for at most two minutes.
+fn run_browser(browser: &str, args: &[String], stdout: &Path) {
+    let mut child = std::process::Command::new(browser)
+        .args(args)
+        .stdout(std::fs::File::create(stdout).expect("output file"))
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("browser");
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("browser") {
+            break status;
         }
-        None => println!("no headless Chromium here: the page was checked as files only"),
-    }
+        if start.elapsed() > std::time::Duration::from_secs(120) {
+            let _ = child.kill();
+            panic!("{browser} took more than 120 s: {args:?}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    };
+    assert!(status.success(), "{browser} failed ({status}): {args:?}");
 }
 
 /// Issue 53, item 17: a run without a ring whose (0,3) wavelet ridge grows while (0,3) stays

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use super::chart::{write, write_heatmap, Heatmap, LineChart, Series, Stroke};
+use super::chart::{write, write_heatmap, Heatmap, LineChart, Series, Stroke, PALE};
 use crate::testdata::ema::stabilisation::{DiagramPole, PoleStatus};
 use crate::testdata::ema::TestMode;
 use crate::Result;
@@ -45,7 +45,7 @@ pub fn write_stabilisation_chart(
             x,
             y,
             stroke: Stroke::Solid,
-            color: 7,
+            color: PALE,
         });
     }
     for (status, label, color) in [

@@ -2,7 +2,9 @@
 //! markdown/HTML report.
 
 pub mod chart;
+mod clip;
 pub mod ema_charts;
+mod html;
 pub mod kalker_charts;
 pub mod modal_chart;
 mod page;

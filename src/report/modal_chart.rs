@@ -8,6 +8,13 @@ use crate::modal::mode::{ModeFamily, ModeRef};
 use crate::testdata::hammer::MeasuredMode;
 use crate::Result;
 
+/// Palette indices ([`super::chart::PALETTE`]) of the nine lines (axial, radial,
+/// circumferential; nodal circles 0, 1, 2 within each): nine different colours, the three
+/// families' m = 0 lines in the three most distinct (blue, vermillion, green), the pale yellow
+/// left out. (Indices 3 k + m into the Okabe-Ito eight gave circumferential m = 2 axial
+/// m = 0's colour.)
+const LINE_COLOURS: [usize; 9] = [0, 5, 7, 1, 4, 8, 2, 3, 6];
+
 /// The standard picture of a modal comparison: frequency against nodal diameters, one colour
 /// per family and nodal-circle count, FE dotted, measured solid with markers.
 pub fn write_modal_chart(
@@ -24,7 +31,7 @@ pub fn write_modal_chart(
     ];
     for (k, fam) in families.into_iter().enumerate() {
         for m in 0..=2u32 {
-            let color = 3 * k + m as usize;
+            let color = LINE_COLOURS[3 * k + m as usize];
             let mut pts: Vec<(f64, f64)> = fe
                 .iter()
                 .filter(|f| f.family == fam && f.nodal_circles == m)
@@ -75,4 +82,21 @@ pub fn write_modal_chart(
         ..Default::default()
     };
     write(&chart, png, svg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::LINE_COLOURS;
+    use crate::report::chart::PALE;
+
+    /// Issue 53, item 18: every family and nodal-circle count has a colour of its own, never
+    /// the pale yellow.
+    #[test]
+    fn every_line_has_a_colour_of_its_own() {
+        let mut colours = LINE_COLOURS.to_vec();
+        colours.sort();
+        colours.dedup();
+        assert_eq!(colours.len(), LINE_COLOURS.len());
+        assert!(!colours.contains(&PALE));
+    }
 }

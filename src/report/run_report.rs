@@ -20,6 +20,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
+pub use super::html::markdown_to_html;
 pub use super::page::ReportOptions;
 use super::page::{Page, Run};
 use super::{ring_sections, sections};
@@ -247,131 +248,6 @@ fn read_ring_analyses(
         .then(|| analyse_ring(dir, &options).ok())
         .flatten();
     (Some(growth), map)
-}
-
-/// The report page's stylesheet: a readable column, tables with lines, charts two per row,
-/// the table of contents in a box.
-const REPORT_CSS: &str = "body{font-family:system-ui,sans-serif;max-width:1400px;margin:auto;\
-padding:0 1em;color:#222;line-height:1.45}h1{border-bottom:2px solid #345}h2{margin-top:2em;\
-border-bottom:1px solid #ccc}table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px \
-solid #bbb;padding:3px 8px}tr:nth-child(even){background:#f4f6f8}img{margin:4px}\
-nav.toc{background:#f4f6f8;border:1px solid #ccd;padding:0.5em 1em;display:inline-block}";
-
-/// Minimal markdown -> HTML for the report's own markdown (headings, images, links, tables,
-/// lists, paragraphs).
-pub fn markdown_to_html(title: &str, md: &str) -> String {
-    let esc = |s: &str| {
-        s.replace('&', "&amp;")
-            .replace('<', "&lt;")
-            .replace('>', "&gt;")
-    };
-    let inline = |s: &str| -> String {
-        // Images ![alt](src) and links [text](href); everything else escaped.
-        let mut out = String::new();
-        let mut rest = s;
-        while let Some(start) = rest.find('[') {
-            let is_img = start > 0 && rest.as_bytes()[start - 1] == b'!';
-            let (before, after) = rest.split_at(if is_img { start - 1 } else { start });
-            out.push_str(&esc(before));
-            let after = if is_img { &after[1..] } else { after };
-            if let (Some(close), Some(paren)) = (after.find("]("), after.find(')')) {
-                if close < paren {
-                    let text = &after[1..close];
-                    let href = &after[close + 2..paren];
-                    if is_img {
-                        out.push_str(&format!(
-                            "<img src=\"{}\" alt=\"{}\" style=\"max-width:48%\">",
-                            esc(href),
-                            esc(text)
-                        ));
-                    } else {
-                        out.push_str(&format!("<a href=\"{}\">{}</a>", esc(href), esc(text)));
-                    }
-                    rest = &after[paren + 1..];
-                    continue;
-                }
-            }
-            out.push_str(&esc(&after[..1]));
-            rest = &after[1..];
-        }
-        out.push_str(&esc(rest));
-        out
-    };
-    let mut html = format!(
-        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{}</title><style>{REPORT_CSS}</style></head><body>\n",
-        esc(title)
-    );
-    // A table of contents of the sections (## headings), placed after the title.
-    let sections: Vec<&str> = md.lines().filter_map(|l| l.strip_prefix("## ")).collect();
-    let mut toc = String::from("<nav class=\"toc\"><b>Contents</b><ol>\n");
-    for (k, h) in sections.iter().enumerate() {
-        toc.push_str(&format!(
-            "<li><a href=\"#section-{k}\">{}</a></li>\n",
-            inline(h)
-        ));
-    }
-    toc.push_str("</ol></nav>\n");
-    let mut section_index = 0;
-    let mut in_table = false;
-    let mut in_list = false;
-    for line in md.lines() {
-        let l = line.trim_end();
-        if l.starts_with('|') {
-            if l.contains("---") {
-                continue;
-            }
-            if !in_table {
-                html.push_str("<table>\n");
-                in_table = true;
-            }
-            let cells: Vec<&str> = l.trim_matches('|').split('|').collect();
-            html.push_str("<tr>");
-            for c in cells {
-                html.push_str(&format!("<td>{}</td>", inline(c.trim())));
-            }
-            html.push_str("</tr>\n");
-            continue;
-        } else if in_table {
-            html.push_str("</table>\n");
-            in_table = false;
-        }
-        if let Some(item) = l.strip_prefix("- ") {
-            if !in_list {
-                html.push_str("<ul>\n");
-                in_list = true;
-            }
-            html.push_str(&format!("<li>{}</li>\n", inline(item)));
-            continue;
-        } else if in_list {
-            html.push_str("</ul>\n");
-            in_list = false;
-        }
-        if let Some(h) = l.strip_prefix("### ") {
-            html.push_str(&format!("<h3>{}</h3>\n", inline(h)));
-        } else if let Some(h) = l.strip_prefix("## ") {
-            html.push_str(&format!(
-                "<h2 id=\"section-{section_index}\">{}</h2>\n",
-                inline(h)
-            ));
-            section_index += 1;
-        } else if let Some(h) = l.strip_prefix("# ") {
-            html.push_str(&format!("<h1>{}</h1>\n", inline(h)));
-            if !sections.is_empty() {
-                html.push_str(&toc);
-                toc.clear();
-            }
-        } else if !l.is_empty() {
-            html.push_str(&format!("<p>{}</p>\n", inline(l)));
-        }
-    }
-    if in_table {
-        html.push_str("</table>\n");
-    }
-    if in_list {
-        html.push_str("</ul>\n");
-    }
-    html.push_str("</body></html>\n");
-    html
 }
 
 #[cfg(test)]

@@ -371,9 +371,11 @@ pub(super) fn contact_forces(page: &mut Page, ctx: &Context) -> Result<()> {
                 Some(&out_dir.join(format!("{stem}.png"))),
                 Some(&out_dir.join(format!("{stem}.svg"))),
             )?;
-            let _ = writeln!(page.md, "![{stem}]({stem}.png)\n");
+            // Consecutive lines: one paragraph, the runs' charts side by side.
+            let _ = writeln!(page.md, "![{stem}]({stem}.png)");
             page.files.push(format!("{stem}.png"));
         }
+        page.md.push('\n');
     }
     Ok(())
 }
@@ -923,10 +925,13 @@ pub(super) fn metadata(page: &mut Page, ctx: &Context) -> Result<()> {
         let meta = r.dir.join("run.json");
         if meta.exists() {
             let v: serde_json::Value = crate::input::read_json(&meta)?;
-            if let Some(obj) = v.as_object() {
+            if v.is_object() {
                 let _ = writeln!(page.md, "| item | value |\n|---|---|");
-                for (k, val) in obj {
-                    let _ = writeln!(page.md, "| {k} | {} |", val.to_string().trim_matches('"'));
+                let mut rows = Vec::new();
+                json_rows("", &v, &mut rows);
+                let cell = |s: &str| s.replace('|', "\\|").replace('\n', " ");
+                for (k, val) in rows {
+                    let _ = writeln!(page.md, "| {} | {} |", cell(&k), cell(&val));
                 }
             }
         } else {
@@ -943,4 +948,41 @@ pub(super) fn metadata(page: &mut Page, ctx: &Context) -> Result<()> {
     }
 
     Ok(())
+}
+
+/// A JSON value as rows of the metadata table, so that no cell runs off the page: one per
+/// leaf, nested keys joined with dots (`model.nodes`), strings unquoted, arrays on one line
+/// with a space after each comma (where a page can wrap them).
+fn json_rows(key: &str, v: &serde_json::Value, rows: &mut Vec<(String, String)>) {
+    match v {
+        serde_json::Value::Object(o) if !o.is_empty() => {
+            for (k, x) in o {
+                let key = if key.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{key}.{k}")
+                };
+                json_rows(&key, x, rows);
+            }
+        }
+        serde_json::Value::String(s) => rows.push((key.to_string(), s.clone())),
+        other => rows.push((key.to_string(), spaced_json(other))),
+    }
+}
+
+/// JSON on one line with a space after each comma and colon.
+fn spaced_json(v: &serde_json::Value) -> String {
+    let joined = |items: Vec<String>| items.join(", ");
+    match v {
+        serde_json::Value::Array(a) => format!("[{}]", joined(a.iter().map(spaced_json).collect())),
+        serde_json::Value::Object(o) => format!(
+            "{{{}}}",
+            joined(
+                o.iter()
+                    .map(|(k, x)| format!("{k}: {}", spaced_json(x)))
+                    .collect()
+            )
+        ),
+        other => other.to_string(),
+    }
 }
