@@ -129,6 +129,19 @@ fn fixtures() -> PathBuf {
     std::fs::write(dir.join("nopressure.json"), snapshot.to_string()).unwrap();
     snapshot["mu"] = 5.0.into();
     std::fs::write(dir.join("mu5.json"), snapshot.to_string()).unwrap();
+    // Item 13: a one-hexahedron legacy VTK mesh with its top and bottom faces swapped
+    // (inverted: det J < 0).
+    let mut inverted = String::from(
+        "# vtk DataFile Version 3.0\ninverted\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 8 double\n",
+    );
+    for p in [
+        "0 0 0", "1 0 0", "1 1 0", "0 1 0", "0 0 1", "1 0 1", "1 1 1", "0 1 1",
+    ] {
+        inverted.push_str(p);
+        inverted.push('\n');
+    }
+    inverted.push_str("CELLS 1 9\n8 4 5 6 7 0 1 2 3\nCELL_TYPES 1\n12\n");
+    std::fs::write(dir.join("inverted.vtk"), inverted).unwrap();
     dir
 }
 
@@ -184,6 +197,7 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let enforce = fx.join("enforce.json").display().to_string();
     let exact_mr = fx.join("exact_mr.json").display().to_string();
     let preload5 = fx.join("preload5.json").display().to_string();
+    let inverted = fx.join("inverted.vtk").display().to_string();
     let frkey = fx.join("frkey.json").display().to_string();
     let nopressure = fx.join("nopressure.json").display().to_string();
     let mu5 = fx.join("mu5.json").display().to_string();
@@ -1177,6 +1191,11 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["simulate", "--case", &exact_mr, "--out", "o"],
             2,
             vec!["exact_mr.json", "time_stepping.multi_rate", "exact contact"],
+        ),
+        (
+            vec!["modes", "--mesh", &inverted, "--out", "o"],
+            2,
+            vec!["inverted.vtk", "element 0 is inverted", "must be positive"],
         ),
         (
             vec!["simulate", "--case", &preload5, "--out", "o"],

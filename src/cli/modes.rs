@@ -222,7 +222,14 @@ pub fn run(args: ModesArgs) -> Result<()> {
                 AxisChoice::Y => Some(1),
                 AxisChoice::Z => Some(2),
             };
-            let model = mesh_model(mesh, material, &clamp, args.hex8.into(), axis)?;
+            // A mesh the elements refuse (an inverted element) is named by its file.
+            let mesh_path = args.mesh.as_ref().expect("clap group: --wheel or --mesh");
+            let model = mesh_model(mesh, material, &clamp, args.hex8.into(), axis).map_err(
+                |e| match e {
+                    Error::Mesh(m) => Error::Mesh(format!("{}: {m}", mesh_path.display())),
+                    other => other,
+                },
+            )?;
             report_axis(&model, axis.is_some());
             if let Some(n) = model.box_clamped_nodes {
                 println!("clamped {n} nodes ({})", args.clamp);

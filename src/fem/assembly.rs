@@ -263,7 +263,8 @@ pub fn assemble_volume(
 
 fn inverted(e: usize) -> Error {
     Error::Mesh(format!(
-        "element {e} is inverted or degenerate (det J <= 0)"
+        "element {e} is inverted or degenerate (det J <= 0): the Jacobian must be positive \
+         everywhere (check the element's node order against the VTK/Gmsh convention)"
     ))
 }
 
