@@ -314,7 +314,8 @@ fn pairs() -> Vec<Pair> {
             "--fmax",
             "--fmax-hz",
         )
-        .exits(1),
+        // A missing input file is bad input (issue 53, item 13: exit 2 throughout).
+        .exits(2),
         // Signals.
         pair(
             &format!("identify {run} --signal lateral --out o"),

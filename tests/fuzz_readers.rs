@@ -107,6 +107,33 @@ fn fixtures(dir: &Path) -> Vec<(PathBuf, &'static str)> {
     all.extend(squeal::testdata::uff::write::to_bytes(&frf, true).unwrap());
     let uff = dir.join("all.uff");
     std::fs::write(&uff, all).unwrap();
+    // Issue 53: records as pyuff's `sample_test` files and Simcenter Testlab write them: a
+    // dataset 164 whose temperature-mode field is blank, and the dataset 55 mode shapes with
+    // negative values glued in fixed E13.5 columns (no blank before a minus sign).
+    let units = String::from_utf8(fixture("units164.uff"))
+        .unwrap()
+        .replace("Meter (newton)         2", "Meter (newton)          ");
+    let mut glued55: Vec<String> = String::from_utf8(fixture("modes55.uff"))
+        .unwrap()
+        .lines()
+        .map(str::to_string)
+        .collect();
+    for k in 1..glued55.len() {
+        let node: Option<usize> = glued55[k - 1].trim().parse().ok();
+        let is_values = glued55[k].contains("e+") || glued55[k].contains("e-");
+        if let (Some(node @ 1..=4), true, 10) = (node, is_values, glued55[k - 1].len()) {
+            glued55[k] = [-0.125 * node as f64, -2.5e-3, -1.0 / node as f64]
+                .iter()
+                .map(|&v| squeal::testdata::uff::fields::format_real(v, 13, 6, 'E'))
+                .collect();
+        }
+    }
+    let fixed_width = dir.join("fixed_width.uff");
+    std::fs::write(&fixed_width, units + &glued55.join("\n") + "\n").unwrap();
+    // Unmutated, the file is one a reader must take (so the fuzzing starts from valid input).
+    let read_back = squeal::testdata::uff::read_uff(&fixed_width).unwrap();
+    assert_eq!(read_back.units.unwrap().temperature_mode, 0);
+    assert!(!read_back.nodal_data.is_empty());
     let uff_binary = dir.join("pyuff_binary.uff");
     std::fs::copy(
         root.join("tests/fixtures/uff/frf_binary_pyuff.uff"),
@@ -115,6 +142,7 @@ fn fixtures(dir: &Path) -> Vec<(PathBuf, &'static str)> {
     .unwrap();
     vec![
         (uff, "uff"),
+        (fixed_width, "uff"),
         (uff_binary, "uff"),
         (vtu, "vtu"),
         (msh, "msh"),
