@@ -56,6 +56,18 @@ fn fixtures() -> PathBuf {
         std::fs::copy(ring_run.join(f), garbage.join(f)).unwrap();
     }
     std::fs::write(garbage.join("run.json"), "{ garbage").unwrap();
+    // Item 13: a run whose lateral-motion onset (run.json) lies at the record's last sample:
+    // growth without --from-ms must not blame an option the user did not give.
+    let late = dir.join("late");
+    std::fs::create_dir_all(&late).unwrap();
+    for f in ["histories.csv", "modes.json"] {
+        std::fs::copy(ring_run.join(f), late.join(f)).unwrap();
+    }
+    std::fs::write(
+        late.join("run.json"),
+        r#"{"settings": {"lateral_motion": {"start_s": 0.04, "velocity_m_per_s": 0.1}}}"#,
+    )
+    .unwrap();
     let run = dir.join("run");
     std::fs::create_dir_all(&run).unwrap();
     let mut h = String::from("time_s,lateral_rim_velocity_m_per_s\n");
@@ -197,6 +209,7 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
     let enforce = fx.join("enforce.json").display().to_string();
     let exact_mr = fx.join("exact_mr.json").display().to_string();
     let preload5 = fx.join("preload5.json").display().to_string();
+    let late = fx.join("late").display().to_string();
     let inverted = fx.join("inverted.vtk").display().to_string();
     let frkey = fx.join("frkey.json").display().to_string();
     let nopressure = fx.join("nopressure.json").display().to_string();
@@ -1191,6 +1204,11 @@ fn bad_inputs_exit_with_their_code_name_the_field_and_write_nothing() {
             vec!["simulate", "--case", &exact_mr, "--out", "o"],
             2,
             vec!["exact_mr.json", "time_stepping.multi_rate", "exact contact"],
+        ),
+        (
+            vec!["growth", &late, "--out", "o"],
+            2,
+            vec!["--from-ms (not given)", "lateral-motion onset", "must"],
         ),
         (
             vec!["modes", "--mesh", &inverted, "--out", "o"],

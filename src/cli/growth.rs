@@ -96,11 +96,34 @@ pub fn run(args: GrowthArgs) -> Result<()> {
     let modes: Vec<ModeRef> = squeal::modal::mode::read_modes_json(&modes_path)?;
     let bands = bands_for_modes(&modes, &labels, args.half_width)?;
     let series = read_column(&args.run_dir, &args.column)?;
+    let onset_s = squeal::analysis::lateral_onset_s(&args.run_dir)?;
     let from_s = match args.from_ms {
         Some(t) => t * 1e-3,
-        None => squeal::analysis::lateral_onset_s(&args.run_dir)?.unwrap_or(series.start_time_s),
+        None => onset_s.unwrap_or(series.start_time_s),
     };
-    let g = band_growth(&series, &bands, from_s, args.window_ms * 1e-3)?;
+    let g = band_growth(&series, &bands, from_s, args.window_ms * 1e-3).map_err(|e| match e {
+        // Without --from-ms the start was the default's: say so rather than blame an option
+        // the user did not give (issue 53, item 13).
+        Error::Input {
+            source_name,
+            field,
+            message,
+        } if field == "--from-ms" && args.from_ms.is_none() => Error::input(
+            source_name,
+            "--from-ms (not given)",
+            format!(
+                "the analysis started by default at {} ({:.3} ms): {message}; give an earlier \
+                 --from-ms",
+                if onset_s.is_some() {
+                    "the lateral-motion onset in run.json"
+                } else {
+                    "the record's first sample"
+                },
+                from_s * 1e3
+            ),
+        ),
+        other => other,
+    })?;
     let md = to_markdown(&g);
     println!("{md}");
     let out = out_dir(args.out, "growth", &input_name(&args.run_dir));

@@ -426,8 +426,9 @@ fn no_contact_after_preload(
             "preload.max_steps",
             format!(
                 "the dynamic-relaxation preload stopped at its step limit ({} steps, relative \
-                 residual {:.2e}) before the wheel reached the rail: raise preload.max_steps \
-                 (allowed range 2..=100000000, now {}) or use preload.method implicit",
+                 residual {:.2e}) before the wheel came down onto the rail: raise \
+                 preload.max_steps (allowed range 2..=100000000, now {}), use preload.method \
+                 implicit, or start closer (model_scenario: wheel_position.initial_gap_mm)",
                 r.steps, r.relative_residual, case.preload.max_steps
             ),
         ),
