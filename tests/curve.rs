@@ -470,6 +470,29 @@ fn the_patch_speed_runs_squeal_in_a_mode_that_follows_the_penalty() {
     assert!(!cycle, "+20 % on the span before: still growing");
 }
 
+/// A squealing harmonic's figures as docs/curving.md and docs/convergence.md give them: its
+/// final peak to the table's 0.1 Hz, its growth factor to `factor_tolerance` (the table's last
+/// digit) and its growth rate to 1 /s.
+fn assert_squeal_figures(
+    lead: &squeal::analysis::ring_growth::HarmonicGrowth,
+    peak_hz: f64,
+    factor: f64,
+    factor_tolerance: f64,
+    rate_per_s: f64,
+) {
+    let (f, x, rate) = (
+        lead.final_peak_hz.unwrap(),
+        lead.growth_factor,
+        lead.growth_rate_per_s.unwrap(),
+    );
+    assert!(
+        (f - peak_hz).abs() < 0.1
+            && (x - factor).abs() < factor_tolerance
+            && (rate - rate_per_s).abs() < 1.0,
+        "{f} Hz, x{x}, {rate} /s"
+    );
+}
+
 /// Item 2's constant-mu curve runs (penalty contact, node slip speed: the law is constant),
 /// by the criteria fixed before the runs. What the physics gave, first judged 2026-11-29
 /// (docs/curving.md): at mu 0.45 and 20 mrad the wheel squeals in (0,4) axial at 1890.1 Hz
@@ -489,13 +512,7 @@ fn the_constant_mu_curve_runs_by_the_fixed_criteria() {
     let lead = &g.harmonics[g.verdict.leading.unwrap()];
     assert_eq!((lead.direction, lead.n), (RingDirection::Lateral, 4));
     assert_eq!(lead.final_mode.as_ref().unwrap().label(), "(0,4)");
-    // To the table's digits: 0.1 Hz, x to 0.5, the rate to 1 /s.
-    let (f, x, rate) = (
-        lead.final_peak_hz.unwrap(),
-        lead.growth_factor,
-        lead.growth_rate_per_s.unwrap(),
-    );
-    assert!((f - 1890.1).abs() < 0.1 && (x - 20.3).abs() < 0.5 && (rate - 12.0).abs() < 1.0);
+    assert_squeal_figures(lead, 1890.1, 20.3, 0.5, 12.0);
     assert!(!lead.limit_cycle, "+89 % over the last span");
     let g = judge("data/runs/curve/curve-mu045-10mrad", None);
     assert!(!g.verdict.squeals, "{}", g.verdict.summary);
@@ -508,12 +525,7 @@ fn the_constant_mu_curve_runs_by_the_fixed_criteria() {
     assert!(g.verdict.squeals, "{}", g.verdict.summary);
     let lead = &g.harmonics[g.verdict.leading.unwrap()];
     assert_eq!(lead.final_mode.as_ref().unwrap().label(), "(0,9)");
-    let (f, x, rate) = (
-        lead.final_peak_hz.unwrap(),
-        lead.growth_factor,
-        lead.growth_rate_per_s.unwrap(),
-    );
-    assert!((f - 6985.9).abs() < 0.1 && (x - 13.9).abs() < 0.5 && (rate - 10.0).abs() < 1.0);
+    assert_squeal_figures(lead, 6985.9, 13.9, 0.5, 10.0);
 }
 
 /// The constant-mu squeal at 20 mrad again with exact contact (data/runs/curve/
@@ -540,13 +552,7 @@ fn the_constant_mu_squeal_with_exact_contact_by_the_fixed_criteria() {
     let lead = &exact.harmonics[exact.verdict.leading.unwrap()];
     assert_eq!((lead.direction, lead.n), (RingDirection::Lateral, 6));
     assert_eq!(lead.final_mode.as_ref().unwrap().label(), "(0,6)");
-    // To the table's digits: 0.1 Hz, x to 1, the rate to 1 /s.
-    let (f, x, rate) = (
-        lead.final_peak_hz.unwrap(),
-        lead.growth_factor,
-        lead.growth_rate_per_s.unwrap(),
-    );
-    assert!((f - 3851.4).abs() < 0.1 && (x - 150.7).abs() < 1.0 && (rate - 18.0).abs() < 1.0);
+    assert_squeal_figures(lead, 3851.4, 150.7, 1.0, 18.0);
     assert!(!lead.limit_cycle, "+36 % over the last span");
     // The criterion: the penalty run's squeal is confirmed only by a squeal of the same
     // (m, n); it is not.
