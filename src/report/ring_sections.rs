@@ -80,7 +80,12 @@ fn older_measures(r: &Run, ctx: &Context) -> String {
         ),
     };
     // Each n >= 1 band's fastest window: (band, rate, from, to).
-    let bands = super::sections::squeal_band_growths(r, ctx.report_options).unwrap_or_default();
+    // A run whose ridges cannot be computed says why, rather than reading as one that does
+    // not record them (the section "Squeal modes over time" reports the same error).
+    let bands = match super::sections::squeal_band_growths(r, ctx.report_options) {
+        Ok(bands) => bands,
+        Err(e) => return format!("By the older measures, {among}; the wavelet ridges: {e}."),
+    };
     let mut fastest: Vec<(String, f64, f64, f64)> = Vec::new();
     for band in bands.iter().filter(|b| b.mode.1 > 0) {
         let Ok(g) = &band.outcome else { continue };
